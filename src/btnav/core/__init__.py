@@ -1,0 +1,1 @@
+"""The bottom layer: geometry, frames, clock, errors, YAML and validation."""

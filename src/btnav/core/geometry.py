@@ -1,0 +1,121 @@
+"""SE(2) poses and vectorised transforms of point arrays.
+
+`Pose2D` is the one pose type in btnav (x, y in metres, yaw in radians, yaw kept in
+(-pi, pi]). Composition follows the TF convention: `a @ b` is "b expressed in a's
+parent frame", so `map_T_odom @ odom_T_base` gives `map_T_base`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+TWO_PI = 2.0 * math.pi
+
+
+def normalize_angle(a: Any) -> Any:
+    """Wrap angles to (-pi, pi]; works on floats and arrays alike."""
+    if isinstance(a, np.ndarray):
+        out = np.mod(a + np.pi, TWO_PI) - np.pi
+        return np.where(out <= -np.pi, out + TWO_PI, out)
+    out = math.fmod(float(a) + math.pi, TWO_PI)
+    if out < 0:
+        out += TWO_PI
+    out -= math.pi
+    return out + TWO_PI if out <= -math.pi else out
+
+
+def angle_diff(a: Any, b: Any) -> Any:
+    """The signed shortest rotation from b to a."""
+    return normalize_angle(a - b)
+
+
+@dataclass(frozen=True, slots=True)
+class Pose2D:
+    """A rigid transform in the plane: a robot pose, a sensor mount, a frame offset."""
+
+    x: float = 0.0
+    y: float = 0.0
+    yaw: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "x", float(self.x))
+        object.__setattr__(self, "y", float(self.y))
+        object.__setattr__(self, "yaw", normalize_angle(float(self.yaw)))
+
+    @classmethod
+    def from_array(cls, a: ArrayLike) -> Pose2D:
+        v = np.asarray(a, dtype=float).ravel()
+        if v.shape == (2,):
+            return cls(v[0], v[1], 0.0)
+        if v.shape != (3,):
+            raise ValueError(f"a pose is [x, y] or [x, y, yaw], got {v.shape[0]} numbers")
+        return cls(v[0], v[1], v[2])
+
+    def as_array(self) -> NDArray[np.float64]:
+        return np.array([self.x, self.y, self.yaw])
+
+    def as_matrix(self) -> NDArray[np.float64]:
+        """The 3x3 homogeneous matrix."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return np.array([[c, -s, self.x], [s, c, self.y], [0.0, 0.0, 1.0]])
+
+    def __matmul__(self, other: Pose2D) -> Pose2D:
+        return self.compose(other)
+
+    def compose(self, other: Pose2D) -> Pose2D:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return Pose2D(
+            self.x + c * other.x - s * other.y,
+            self.y + s * other.x + c * other.y,
+            self.yaw + other.yaw,
+        )
+
+    def inverse(self) -> Pose2D:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return Pose2D(-c * self.x - s * self.y, s * self.x - c * self.y, -self.yaw)
+
+    def relative_to(self, other: Pose2D) -> Pose2D:
+        """This pose seen from `other` (both in one parent frame): `other⁻¹ @ self`."""
+        return other.inverse() @ self
+
+    def transform_points(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Map an (N, 2) array of points from this frame into its parent frame."""
+        p = np.asarray(points, dtype=float)
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        out = np.empty_like(p)
+        out[..., 0] = c * p[..., 0] - s * p[..., 1] + self.x
+        out[..., 1] = s * p[..., 0] + c * p[..., 1] + self.y
+        return out
+
+    def inverse_transform_points(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Map points from the parent frame into this frame."""
+        p = np.asarray(points, dtype=float)
+        dx, dy = p[..., 0] - self.x, p[..., 1] - self.y
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        out = np.empty_like(p)
+        out[..., 0] = c * dx + s * dy
+        out[..., 1] = -s * dx + c * dy
+        return out
+
+    def distance_to(self, other: Pose2D) -> float:
+        return math.hypot(other.x - self.x, other.y - self.y)
+
+    def __iter__(self):  # allows `x, y, yaw = pose`
+        return iter((self.x, self.y, self.yaw))
+
+
+def compose_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Compose many poses at once: rows of (x, y, yaw), broadcasting like `a[i] @ b[i]`."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 0] + c * b[..., 0] - s * b[..., 1]
+    out[..., 1] = a[..., 1] + s * b[..., 0] + c * b[..., 1]
+    out[..., 2] = normalize_angle(a[..., 2] + b[..., 2])
+    return out

@@ -1,0 +1,1 @@
+"""Nav2-style params files: loading, schemas and checks."""

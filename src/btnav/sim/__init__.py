@@ -1,0 +1,1 @@
+"""The pymunk world: scene, diff-drive robot, odometry and sensors."""
