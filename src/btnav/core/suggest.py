@@ -37,5 +37,7 @@ def unknown_name_message(kind: str, name: str, candidates: Iterable[str], limit:
     names = sorted(set(candidates))
     if not names:
         return f"unknown {kind} '{name}' (none are known)"
-    shown = ", ".join(names[:limit]) + (f", ... ({len(names)} in all)" if len(names) > limit else "")
+    shown = ", ".join(names[:limit]) + (
+        f", ... ({len(names)} in all)" if len(names) > limit else ""
+    )
     return f"unknown {kind} '{name}'; known: {shown}"

@@ -51,7 +51,9 @@ def _models_in(annotation: Any) -> list[type[pydantic.BaseModel]]:
     return []
 
 
-def _model_at(model: type[pydantic.BaseModel], loc: Sequence[Any]) -> list[type[pydantic.BaseModel]]:
+def _model_at(
+    model: type[pydantic.BaseModel], loc: Sequence[Any]
+) -> list[type[pydantic.BaseModel]]:
     """The models that may sit at `loc` below `model` (to suggest a key's spelling)."""
     current = [model]
     for part in loc:

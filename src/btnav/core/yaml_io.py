@@ -17,10 +17,9 @@ import yaml
 
 from .errors import YamlError
 
-try:  # libyaml's parser is much faster; the constructors below stay ours either way
-    _Base = yaml.CSafeLoader
-except AttributeError:  # pragma: no cover - pyyaml built without libyaml
-    _Base = yaml.SafeLoader
+# The pure-Python parser on purpose: libyaml's C composer recurses without a limit and
+# crashes the process on deeply nested input, while Python's raises RecursionError.
+_Base = yaml.SafeLoader
 
 #: Anchors/aliases beyond this count are refused: they would let a small file expand
 #: into an exponentially large document ("billion laughs") downstream.
@@ -146,8 +145,9 @@ def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -
             text = text.decode("utf-8")
         except UnicodeDecodeError as exc:
             raise YamlError(f"not UTF-8 text (byte {exc.start})", file=name) from None
-    loader = _LineLoader(text, name)
+    loader = None
     try:
+        loader = _LineLoader(text, name)
         return loader.get_single_data()
     except YamlError:
         raise
@@ -156,6 +156,10 @@ def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -
         line = mark.line + 1 if mark is not None else None
         problem = exc.problem or exc.context or "invalid YAML"
         raise YamlError(f"invalid YAML: {problem}", file=name, line=line) from None
+    except yaml.reader.ReaderError as exc:
+        raise YamlError(
+            f"invalid YAML: {exc.reason} (character {exc.character!r})", file=name
+        ) from None
     except yaml.YAMLError as exc:
         raise YamlError(f"invalid YAML: {exc}", file=name) from None
     except RecursionError:
@@ -163,7 +167,8 @@ def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -
     except ValueError as exc:  # e.g. an integer with more digits than Python converts
         raise YamlError(f"invalid YAML value: {exc}", file=name) from None
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
 
 
 def load_yaml(path: str | PathLike[str]) -> Any:
@@ -185,10 +190,7 @@ def line_at(doc: Any, path: Sequence[Any]) -> int | None:
     line = getattr(doc, "line", None)
     node = doc
     for part in path:
-        if isinstance(node, YamlMap) and part in node:
-            line = node.line_of(part)
-            node = node[part]
-        elif isinstance(node, YamlSeq) and isinstance(part, int) and 0 <= part < len(node):
+        if (isinstance(node, YamlMap) and part in node) or (isinstance(node, YamlSeq) and isinstance(part, int) and 0 <= part < len(node)):
             line = node.line_of(part)
             node = node[part]
         else:

@@ -56,12 +56,19 @@ class OccupancyGrid:
     def cell_to_world(self, cells: ArrayLike) -> NDArray[np.float64]:
         """(N, 2) (row, col) indices -> (N, 2) world coordinates of the cell centres."""
         rc = np.asarray(cells, dtype=float)
-        local = np.stack([(rc[..., 1] + 0.5) * self.resolution, (rc[..., 0] + 0.5) * self.resolution], -1)
+        local = np.stack(
+            [(rc[..., 1] + 0.5) * self.resolution, (rc[..., 0] + 0.5) * self.resolution], -1
+        )
         return self.origin.transform_points(local)
 
     def in_bounds(self, cells: ArrayLike) -> NDArray[np.bool_]:
         rc = np.asarray(cells)
-        return (rc[..., 0] >= 0) & (rc[..., 0] < self.height) & (rc[..., 1] >= 0) & (rc[..., 1] < self.width)
+        return (
+            (rc[..., 0] >= 0)
+            & (rc[..., 0] < self.height)
+            & (rc[..., 1] >= 0)
+            & (rc[..., 1] < self.width)
+        )
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, OccupancyGrid):

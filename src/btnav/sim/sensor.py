@@ -26,7 +26,9 @@ class Sensor:
         pose: tuple[float, float, float] = Field(
             (0.0, 0.0, 0.0), description="mounting pose [x, y, yaw] in base_link"
         )
-        rate: float = Field(10.0, gt=0, le=10_000, description="measurements per second of sim time")
+        rate: float = Field(
+            10.0, gt=0, le=10_000, description="measurements per second of sim time"
+        )
 
     plugin_kind: ClassVar[str]
     plugin_name: ClassVar[str]

@@ -1,0 +1,102 @@
+"""`btnav ...`: the command line.
+
+A user's mistake prints one line (file:line: key: message (did you mean ...?)) and
+exits 2; `--debug` shows the traceback instead. Each command's work lives in the
+layer it belongs to; this file only parses arguments and maps results to exit codes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable, Sequence
+
+from . import __version__
+from .core.errors import BtnavError
+
+EXIT_OK, EXIT_FAILED, EXIT_USER_ERROR = 0, 1, 2
+
+
+def _params_check(args: argparse.Namespace) -> int:
+    from .params.check import check_main
+
+    return check_main(args.file)
+
+
+def _map_from_world(args: argparse.Namespace) -> int:
+    from .sim.rasterize import from_world_main
+
+    return from_world_main(args.world, args.output, args.resolution)
+
+
+def _world_show(args: argparse.Namespace) -> int:
+    from .viz.world_plot import show_world_main
+
+    return show_world_main(args.world, args.output)
+
+
+def _frames_of_world(args: argparse.Namespace) -> int:
+    from .sim.frames import world_frame_tree
+
+    print(world_frame_tree(args.world).describe())
+    return EXIT_OK
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage mistakes exit 2 with one line, like every other user error."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_USER_ERROR, f"btnav: error: {message}\n(see '{self.prog} --help')\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="btnav", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"btnav {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks for user errors")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    params = sub.add_parser("params", help="Nav2 params files")
+    params_sub = params.add_subparsers(dest="params_command", required=True, parser_class=_Parser)
+    check = params_sub.add_parser(
+        "check", help="validate a params file; list servers, plugins and ignored keys"
+    )
+    check.add_argument("file")
+    check.set_defaults(func=_params_check)
+
+    maps = sub.add_parser("map", help="map_server maps")
+    maps_sub = maps.add_subparsers(dest="map_command", required=True, parser_class=_Parser)
+    fw = maps_sub.add_parser("from-world", help="rasterise a world's static geometry into a map")
+    fw.add_argument("world")
+    fw.add_argument("-o", "--output", required=True, help="the map .yaml to write (and its .pgm)")
+    fw.add_argument("--resolution", type=float, default=0.05, help="metres per cell (0.05)")
+    fw.set_defaults(func=_map_from_world)
+
+    world = sub.add_parser("world", help="simulation worlds")
+    world_sub = world.add_subparsers(dest="world_command", required=True, parser_class=_Parser)
+    show = world_sub.add_parser("show", help="draw the world, the robot and one scan (viz extra)")
+    show.add_argument("world")
+    show.add_argument("-o", "--output", required=True, help="the PNG to write")
+    show.set_defaults(func=_world_show)
+    frames = world_sub.add_parser("frames", help="print the robot's frame tree (REP-105)")
+    frames.add_argument("world")
+    frames.set_defaults(func=_frames_of_world)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    func: Callable[[argparse.Namespace], int] = args.func
+    try:
+        return func(args)
+    except BtnavError as err:
+        if args.debug:
+            raise
+        print(f"btnav: error: {err}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
