@@ -21,7 +21,11 @@ def normalize_angle(a: Any) -> Any:
     """Wrap angles to (-pi, pi]; works on floats and arrays alike."""
     if isinstance(a, np.ndarray):
         out = np.mod(a + np.pi, TWO_PI) - np.pi
-        return np.where(out <= -np.pi, out + TWO_PI, out)
+        out = np.where(out <= -np.pi, out + TWO_PI, out)
+        # Angles already in range come back untouched (the round trip costs an ulp).
+        return np.where((a > -np.pi) & (a <= np.pi), a, out)
+    if -math.pi < a <= math.pi:
+        return float(a)
     out = math.fmod(float(a) + math.pi, TWO_PI)
     if out < 0:
         out += TWO_PI

@@ -116,7 +116,12 @@ def validation_error(
         msg = "missing required key"
     else:
         got = err.get("input")
-        shown = repr(got) if not isinstance(got, dict | list) else type(got).__name__
+        if isinstance(got, dict):
+            shown = "a mapping"
+        elif isinstance(got, list):
+            shown = "a list"
+        else:
+            shown = repr(got)
         if len(shown) > 60:
             shown = shown[:57] + "..."
         msg = f"{err['msg']} (got {shown})"
