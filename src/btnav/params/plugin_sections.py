@@ -1,0 +1,144 @@
+"""Resolving the sections a `*_plugins` list names to a plugin class, or "not implemented yet".
+
+The section's `plugin:` type is looked up in btnav's registry; a registered
+plugin validates the rest of the section with its own `Params` model. A Nav2
+type btnav knows but has no plugin for is accepted and its keys are listed as
+ignored. Any other type is an error naming the closest known type, as is a listed
+name without a section (unless Nav2 supplies the type by default).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import pydantic
+
+from .. import plugins as registry
+from ..core.errors import ParamsError
+from ..core.suggest import best_match
+from ..core.yaml_io import YamlMap, YamlSeq
+from .ignored import entry, ignored_keys
+from .nav2_known import class_name, known_plugin_type, known_plugin_types
+from .paramsfile import IgnoredEntry, PluginSection
+from .schema import ParamsModel, validate_section
+from .servers import PluginList
+from .tree import line_of
+
+
+class NoParams(ParamsModel):
+    """The schema of a plugin class without a `Params` model: it takes no keys."""
+
+
+def _list_line(doc: Mapping[str, Any], plist: PluginList, name: str) -> int | None:
+    names = doc.get(plist.key)
+    if isinstance(names, YamlSeq) and name in names:
+        return names.line_of(names.index(name))
+    return line_of(doc, plist.key) if plist.key in doc else getattr(doc, "line", None)
+
+
+def resolve_plugin(
+    plist: PluginList,
+    name: str,
+    doc: Mapping[str, Any],
+    defaults_apply: bool,
+    path: Sequence[str],
+    file: str | None,
+) -> tuple[PluginSection, list[IgnoredEntry]]:
+    """The plugin section `name` of a server whose (expanded) parameters are `doc`."""
+    key_path = [*path, name]
+    section = doc.get(name)
+    if section is not None and not isinstance(section, Mapping):
+        raise ParamsError(
+            f"'{name}' is listed in {plist.key}, so it must be a section with 'plugin:', "
+            "not a single value",
+            file=file,
+            line=line_of(doc, name),
+            key=key_path,
+        )
+    type_name = section.get("plugin") if section is not None else None
+    defaulted = False
+    if type_name is None:
+        default = plist.default_types.get(name) if defaults_apply else None
+        if default is None:
+            if section is None:
+                sections = [str(k) for k, v in doc.items() if isinstance(v, Mapping)]
+                raise ParamsError(
+                    f"'{name}' is listed in {plist.key} but there is no section '{name}:' "
+                    "giving its plugin type",
+                    file=file,
+                    line=_list_line(doc, plist, name),
+                    key=[*path, plist.key],
+                    suggestion=best_match(name, sections),
+                )
+            raise ParamsError(
+                f"section '{name}' has no 'plugin:' key naming its {plist.kind.replace('_', ' ')} type",
+                file=file,
+                line=line_of(doc, name),
+                key=key_path,
+            )
+        type_name, defaulted = default, True
+    if not isinstance(type_name, str) or not type_name.strip():
+        raise ParamsError(
+            f"'plugin' must name a {plist.kind.replace('_', ' ')} type, got {type_name!r}",
+            file=file,
+            line=line_of(section, "plugin"),
+            key=[*key_path, "plugin"],
+        )
+    body = YamlMap(file=file, line=getattr(section, "line", None))
+    for key, value in (section or {}).items():
+        if key != "plugin":
+            body[key] = value
+            body.key_lines[key] = line_of(section, key)  # type: ignore[assignment]
+    line = line_of(doc, name) if section is not None else _list_line(doc, plist, name)
+    plugin_line = line_of(section, "plugin") if section is not None else line
+    cls = _registered(plist, type_name)
+    if cls is not None:
+        model = getattr(cls, "Params", None)
+        if not (isinstance(model, type) and issubclass(model, pydantic.BaseModel)):
+            model = NoParams
+        params = validate_section(model, body, key_prefix=key_path, file=file)
+        found = PluginSection(
+            name, plist.kind, type_name, cls, params, ".".join(key_path), line, plist.key, defaulted
+        )
+        return found, ignored_keys(params, body, list(key_path), file)
+    if known_plugin_type(plist.kind, type_name) is None:
+        raise _unknown_type(plist, type_name, file, plugin_line, [*key_path, "plugin"])
+    found = PluginSection(
+        name, plist.kind, type_name, None, None, ".".join(key_path), line, plist.key, defaulted
+    )
+    ignored = []
+    if body:
+        why = (
+            "costmap filters are not implemented yet"
+            if not plist.implemented
+            else (f"{class_name(type_name)} is not implemented yet, so its keys are not read")
+        )
+        ignored.append(entry(list(key_path), line, why, file, body))
+    return found, ignored
+
+
+def _registered(plist: PluginList, type_name: str) -> type | None:
+    """The registered class for `type_name`, or None (costmap filters are never registered)."""
+    if not plist.implemented:
+        return None
+    registry.load_entry_points()
+    if registry.is_registered(plist.kind, type_name):
+        return registry.lookup(plist.kind, type_name)  # type: ignore[no-any-return]
+    return None
+
+
+def _unknown_type(
+    plist: PluginList, type_name: str, file: str | None, line: int | None, key: list[str]
+) -> ParamsError:
+    nav2 = list(known_plugin_types(plist.kind))
+    registered = registry.names(plist.kind, aliases=True) if plist.implemented else []
+    what = plist.kind.replace("_", " ")
+    message = f"unknown {what} plugin '{type_name}'"
+    if nav2:
+        message += f"; Nav2's are {', '.join(class_name(t) for t in nav2)}"
+    if registered:
+        message += f"; registered in btnav: {', '.join(registered)}"
+    return ParamsError(
+        message, file=file, line=line, key=key, suggestion=best_match(type_name, nav2 + registered)
+    )
