@@ -1,0 +1,293 @@
+"""How fast the simulator runs, against its targets and against IR-SIM.
+
+    python bench/sim_speed.py [--seconds 60] [--scans 3000] [--profile]
+
+(a) real-time factor of the bare world: small_office, physics at 100 Hz, a 360-beam
+    lidar at 10 Hz, odometry at 50 Hz, the robot driving a slow circle. Target 300x.
+(b) lidar scans per second in a world of 100+ segments (small_office plus a field of
+    boxes). Target 2,000 scans/s.
+(c) with the `bench` extra (IR-SIM installed), the same world and robot in IR-SIM
+    (a diff-drive robot with a 360-beam lidar, same rates, no rendering), run in this
+    process; btnav's speed is printed as a ratio of IR-SIM's.
+
+numpy runs single-threaded in both, for a fair one-core comparison.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import copy  # noqa: E402
+import math  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from btnav.core.clock import Rate, SimClock  # noqa: E402
+from btnav.core.messages import Twist  # noqa: E402
+from btnav.core.yaml_io import load_yaml  # noqa: E402
+from btnav.sim.lidar import Lidar  # noqa: E402
+from btnav.sim.odometry import make_odometry  # noqa: E402
+from btnav.sim.sensors import make_sensors  # noqa: E402
+from btnav.sim.world import World  # noqa: E402
+from btnav.sim.world_spec import WorldSpec  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[1]
+SMALL_OFFICE = REPO / "worlds" / "small_office.yaml"
+
+PHYSICS_HZ, LIDAR_HZ, ODOM_HZ = 100.0, 10.0, 50.0
+#: A circle of radius 0.5 m around (1.0, 1.5): clear of every wall and obstacle.
+CIRCLE = Twist(linear_x=0.15, angular_z=0.3)
+TARGET_RTF, TARGET_SCANS = 300.0, 2000.0
+
+
+def _line(name: str, value: float, unit: str, target: float | None = None) -> None:
+    if target is None:
+        print(f"  {name:<44s} {value:>10.1f} {unit}")
+    else:
+        print(
+            f"  {name:<44s} {value:>10.1f} {unit:<8s} target {target:>7.0f}  "
+            f"ratio {value / target:5.2f} {'ok' if value >= target else 'BELOW TARGET'}"
+        )
+
+
+# -- (a) the bare world -----------------------------------------------------------------
+
+
+def run_world(world: World, sim_seconds: float) -> tuple[float, int]:
+    """Drive the circle for `sim_seconds`; returns wall seconds and scans taken."""
+    lidar = next(s for s in make_sensors(world, seed=0) if isinstance(s, Lidar))
+    odom = make_odometry(world, seed=0)
+    clock = SimClock()
+    lidar_rate, odom_rate = Rate(LIDAR_HZ), Rate(ODOM_HZ)
+    dt = 1.0 / PHYSICS_HZ
+    steps = round(sim_seconds * PHYSICS_HZ)
+    scans = 0
+    world.set_cmd_vel(CIRCLE)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        world.step(dt)
+        clock.advance(dt)
+        now = clock.now
+        if odom_rate.due(clock):
+            odom.update(now)
+        if lidar_rate.due(clock):
+            lidar.measure(now)
+            scans += 1
+    return time.perf_counter() - t0, scans
+
+
+def bench_world(sim_seconds: float) -> float:
+    world = World.from_file(SMALL_OFFICE, seed=0)
+    run_world(World.from_file(SMALL_OFFICE, seed=0), 2.0)  # warm-up
+    wall, scans = run_world(world, sim_seconds)
+    rtf = sim_seconds / wall
+    g = world.geometry()
+    print(f"(a) bare world: small_office ({len(g.segments)} segments, {len(g.circles)} circles),"
+          f" {sim_seconds:g} sim s, {scans} scans, collisions {world.collisions}")
+    _line("real-time factor (sim s per wall s)", rtf, "x", TARGET_RTF)
+    return rtf
+
+
+# -- (b) scans per second in a cluttered world ------------------------------------------
+
+
+def cluttered_doc(n_boxes: int = 24, seed: int = 1) -> dict:
+    """small_office plus `n_boxes` small boxes (4 segments each), none on the robot."""
+    doc = copy.deepcopy(load_yaml(SMALL_OFFICE))
+    rng = np.random.default_rng(seed)
+    (x0, y0), (x1, y1) = doc["bounds"]
+    rx, ry = doc["robot"]["pose"][:2]
+    boxes = []
+    while len(boxes) < n_boxes:
+        cx, cy = rng.uniform(x0 + 0.5, x1 - 0.5), rng.uniform(y0 + 0.5, y1 - 0.5)
+        if math.hypot(cx - rx, cy - ry) < 1.5:
+            continue
+        size = [float(v) for v in rng.uniform(0.15, 0.5, 2)]
+        boxes.append({"box": {"center": [float(cx), float(cy)], "size": size,
+                              "yaw": float(rng.uniform(-np.pi, np.pi))}})
+    doc["obstacles"] = list(doc["obstacles"]) + boxes
+    doc["world"] = "small_office_cluttered"
+    return doc
+
+
+def bench_scans(n_scans: int) -> float:
+    world = World(WorldSpec.from_doc(cluttered_doc()), seed=0)
+    lidar = next(s for s in make_sensors(world, seed=0) if isinstance(s, Lidar))
+    g = world.geometry()
+    for i in range(50):
+        lidar.measure(i * 0.1)
+    t0 = time.perf_counter()
+    for i in range(n_scans):
+        lidar.measure(i * 0.1)
+    rate = n_scans / (time.perf_counter() - t0)
+    print(f"(b) lidar: {lidar.params.beams} beams in a world of {len(g.segments)} segments"
+          f" and {len(g.circles)} circles (world.geometry() included)")
+    _line("scans per second", rate, "scans/s", TARGET_SCANS)
+    return rate
+
+
+# -- (c) the same world in IR-SIM -------------------------------------------------------
+
+
+def irsim_world_yaml(world: World, path: Path) -> None:
+    """Write `world` (walls, obstacles, the moving one, robot, lidar) as an IR-SIM world file.
+
+    Static solids are given as the very polygons and circles btnav's lidar sees; the
+    moving circle becomes an omni obstacle dashing back and forth along its route.
+    """
+    import yaml
+
+    from btnav.sim.scene import solids_geometry
+
+    (x0, y0), (x1, y1) = world.bounds
+    static = solids_geometry([s for s in world.solids if s.moves is None])
+    obstacles: list[dict] = [
+        {"shape": {"name": "polygon", "vertices": p.tolist()}, "state": [0.0, 0.0, 0.0]}
+        for p in static.polygons
+    ]
+    obstacles += [
+        {"shape": {"name": "circle", "radius": float(r)}, "state": [float(x), float(y), 0.0]}
+        for x, y, r in static.circles
+    ]
+    for solid in world.solids:
+        if solid.moves is None:
+            continue
+        if len(solid.outlines) or len(solid.circles) != 1:
+            raise SystemExit("this bench translates moving circles only")
+        ox, oy = (float(v) for v in solid.origin)
+        r = float(solid.circles[0, 2])
+        route = [[float(x), float(y), 0.0] for x, y in solid.moves.path]
+        obstacles.append({
+            "kinematics": {"name": "omni"},
+            "shape": {"name": "circle", "radius": r},
+            "state": [ox, oy, 0.0],
+            "goal": [*route, [ox, oy, 0.0]] if solid.moves.loop else route,
+            "vel_max": [solid.moves.speed, solid.moves.speed],
+            "behavior": {"name": "dash", "loop": bool(solid.moves.loop)},
+        })
+    robot = world.spec.robot
+    lidar = next(e["lidar"] for e in robot.sensors if "lidar" in e)
+    x, y, yaw = robot.pose
+    doc = {
+        "world": {
+            "height": float(y1 - y0), "width": float(x1 - x0), "offset": [float(x0), float(y0)],
+            "step_time": 1.0 / PHYSICS_HZ, "sample_time": 1.0 / PHYSICS_HZ,
+            "collision_mode": "stop",
+        },
+        "robot": [{
+            "kinematics": {"name": "diff"},
+            "shape": {"name": "circle", "radius": float(robot.footprint.radius or 0.22)},
+            "state": [float(x), float(y), float(yaw)],
+            "vel_max": [float(robot.limits.v_max), float(robot.limits.w_max)],
+            "sensors": [{
+                "name": "lidar2d",
+                "range_min": float(lidar["range"][0]), "range_max": float(lidar["range"][1]),
+                "angle_range": 2 * math.pi, "number": int(lidar["beams"]),
+                "noise": True, "std": float(lidar["noise_std"]),
+                "offset": [float(v) for v in lidar["pose"]],
+            }],
+        }],
+        "obstacle": obstacles,
+    }
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+
+
+def run_irsim(env, sim_seconds: float) -> tuple[float, int]:
+    """IR-SIM's own `env.step`, with its sensor pass skipped between lidar ticks.
+
+    IR-SIM scans on every step; shadowing the env's sensor-step method on the other
+    steps gives the same 100 Hz physics / 10 Hz lidar schedule btnav runs. Odometry at
+    50 Hz reads the robot's state (IR-SIM has no odometry noise model).
+    """
+    skip = env._objects_sensor_step  # the bound method, restored on lidar ticks
+    clock = SimClock()
+    lidar_rate, odom_rate = Rate(LIDAR_HZ), Rate(ODOM_HZ)
+    dt = 1.0 / PHYSICS_HZ
+    action = np.array([[CIRCLE.linear_x], [CIRCLE.angular_z]])
+    scans = 0
+    t0 = time.perf_counter()
+    for _ in range(round(sim_seconds * PHYSICS_HZ)):
+        clock.advance(dt)
+        due = lidar_rate.due(clock)
+        env._objects_sensor_step = skip if due else _no_sensors
+        env.step(action)
+        if due:
+            env.get_lidar_scan()
+            scans += 1
+        if odom_rate.due(clock):
+            env.get_robot_state()
+    wall = time.perf_counter() - t0
+    env._objects_sensor_step = skip
+    return wall, scans
+
+
+def _no_sensors() -> None:
+    return None
+
+
+def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_scans: float) -> None:
+    try:
+        import irsim
+    except ImportError:
+        print("(c) IR-SIM is not installed (pip install 'btnav[bench]' or pip install ir-sim):"
+              " skipped")
+        return
+    import tempfile
+
+    world = World.from_file(SMALL_OFFICE, seed=0)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "small_office_irsim.yaml"
+        irsim_world_yaml(world, path)
+        env = irsim.make(str(path), display=False, headless=True, log_level="WARNING", seed=0)
+        run_irsim(env, 2.0)  # warm-up
+        env.reset()
+        wall, scans = run_irsim(env, sim_seconds)
+        rtf = sim_seconds / wall
+        lidar = env.robot.lidar
+        # Scans alone, as in (b): IR-SIM's lidar step at the robot's current state.
+        n = 300
+        state = env.robot.state[0:3]
+        t0 = time.perf_counter()
+        for _ in range(n):
+            lidar.step(state)
+        scan_rate = n / (time.perf_counter() - t0)
+        env.end(0)
+    version = getattr(irsim, "__version__", "?")
+    print(f"(c) IR-SIM {version}: the same world ({len(world.solids)} solids) and robot, "
+          f"{sim_seconds:g} sim s, {scans} scans, headless")
+    _line("IR-SIM real-time factor", rtf, "x")
+    _line("btnav / IR-SIM, real-time factor", btnav_rtf / rtf, "x")
+    _line("IR-SIM scans per second (small_office)", scan_rate, "scans/s")
+    _line("btnav (b) / IR-SIM scans per second", btnav_scans / scan_rate, "x")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=60.0, help="sim seconds for (a) and (c)")
+    ap.add_argument("--scans", type=int, default=3000, help="scans for (b)")
+    ap.add_argument("--profile", action="store_true", help="profile (a) with pyinstrument")
+    args = ap.parse_args(argv)
+    print(f"btnav sim speed, one core (numpy {np.__version__}, Python {sys.version.split()[0]})")
+    if args.profile:
+        from pyinstrument import Profiler
+
+        world = World.from_file(SMALL_OFFICE, seed=0)
+        with Profiler(interval=0.0002) as prof:
+            run_world(world, args.seconds)
+        prof.print(show_all=False)
+        return 0
+    rtf = bench_world(args.seconds)
+    scans = bench_scans(args.scans)
+    bench_irsim(args.seconds, rtf, scans)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,28 @@
+"""The frame tree a world implies at its start: REP-105 plus one frame per sensor mount."""
+
+from __future__ import annotations
+
+from os import PathLike
+
+from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
+from ..core.geometry import Pose2D
+from .sensors import make_sensors
+from .world import World
+
+
+def world_frame_tree(world: World | str | PathLike[str], seed: int = 0) -> FrameTree:
+    """`map -> odom -> base_footprint -> base_link -> <sensor frames>` at t = 0.
+
+    Odometry starts at identity at the start pose, so `map -> odom` is the start
+    pose (what a perfect localiser would publish) and `odom -> base_footprint` is
+    identity. Sensor mounts come from the world file, validated by their plugins,
+    so a bad sensor entry fails here as it would in a run.
+    """
+    w = world if isinstance(world, World) else World.from_file(world, seed=seed)
+    tree = FrameTree()
+    tree.set_transform(MAP, ODOM, Pose2D(*w.spec.robot.pose), stamp=w.time)
+    tree.set_transform(ODOM, BASE_FOOTPRINT, Pose2D(), stamp=w.time)
+    tree.set_static(BASE_FOOTPRINT, BASE_LINK, Pose2D())
+    for sensor in make_sensors(w, seed):
+        tree.set_static(BASE_LINK, sensor.frame_id, sensor.mount)
+    return tree

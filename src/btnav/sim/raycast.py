@@ -1,0 +1,355 @@
+"""Vectorised ray casting: many rays from one origin against every segment and circle at once.
+
+This is the lidar's inner loop, so it is written for numpy, not for readability of
+one ray: rays x segments are evaluated as whole arrays (chunked over rays to bound
+memory), never with a Python loop over rays or segments. At a few dozen segments the
+cost is the number of numpy calls more than the arithmetic, so the formulas are
+arranged to need few of them.
+
+Segments: origin o, unit direction d, segment p + u e, a = p - o. The textbook
+t = (a x e) / (d x e), u = (a x d) / (d x e) is rewritten in inverse range: divided
+by a x e, each segment gives three rows whose dot products with d are K = 1/t,
+W = u/t and V = (1 - u)/t, so one product (3S, 2) @ (2, B) evaluates every pair.
+The ray crosses the segment in front of the origin exactly when W >= 0 and V >= 0;
+with W and V scaled by 2^40, min(K, min(W, V)) is K for a hit and <= 0 for a miss,
+and the nearest hit is the largest K: two minimums and a max over the block, no
+division, no boolean masks. Segments are lengthened by a relative 1e-9 at both ends
+so that a ray through a vertex shared by two edges cannot slip between them.
+
+Circles use the same inverse form: with m = centre - o, c = |m|^2 - r^2 and
+b' = d . m / sqrt(c), 1/t = (b' + sqrt(b'^2 - 1)) / sqrt(c); a ray whose line misses
+gives NaN, which `fmax` ignores, and a circle behind gives 1/t < 0.
+
+The S x B temporaries live in a scratch buffer a `RayCaster` keeps between calls
+(fresh large arrays cost page faults on every scan), so a sensor owns one caster.
+
+Rare cases take a small exact side path: segments whose line passes through the
+origin (a x e = 0: the origin on a segment, or a ray running along one) and circles
+containing the origin (the ray meets the boundary on its way out).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .geometry import Geometry
+
+#: Ray x segment pairs evaluated in one block: bounds the scratch memory (3 x 512 kB).
+CHUNK_PAIRS = 1 << 16
+#: Relative lengthening of every segment, so vertices shared by two edges are hit.
+ENDPOINT_EPS = 1e-9
+#: From this many segments (circles) on, those out of range are dropped first by default.
+PRUNE_MIN_SEGMENTS = 128
+PRUNE_MIN_CIRCLES = 32
+#: |a x e| (m^2) at or below which the origin counts as on a segment's line.
+ON_LINE_AREA = 1e-12
+#: Sideways miss (m) at a segment's far end within which a ray counts as running along it.
+COLLINEAR_TOL = 1e-9
+
+#: Scale of the W and V rows (a power of two, so exact): min(K, min(W, V)) is then K
+#: for every hit but those within 2^-40 of a (lengthened) segment's end, which read a
+#: hit a hair farther, and <= 0 for a miss.
+_BIG = 2.0**40
+_E = ENDPOINT_EPS
+_S = 1.0 / (1.0 + 2.0 * ENDPOINT_EPS)
+#: A segment (px, py, qx, qy) relative to the origin, @ _ROWS, / (p x q), gives the W,
+#: V and K rows, two columns each: BIG (-a_y, a_x), BIG ((e_y, -e_x) - (-a_y, a_x)) and
+#: (e_y, -e_x), with a = p - eps e the lengthened start and u measured along the
+#: lengthened segment (hence the factor 1 / (1 + 2 eps)).
+_K_COLS = np.array([[0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]])
+_W_COLS = np.array(
+    [[0.0, (1.0 + _E) * _S], [-(1.0 + _E) * _S, 0.0], [0.0, -_E * _S], [_E * _S, 0.0]]
+)
+_ROWS = np.hstack([_BIG * _W_COLS, _BIG * (_K_COLS - _W_COLS), _K_COLS])
+#: (mx, my, r) @ this, squared first: |m|^2 - r^2.
+_CIRCLE_C = np.array([1.0, 1.0, -1.0])
+_NO_SEGMENTS = np.zeros((0, 4))
+_NO_CIRCLES = np.zeros((0, 3))
+#: The smallest positive inverse range: a ray with no hit nearer than 1/this is a miss.
+_K_MIN = float(np.finfo(float).tiny)
+
+
+def beam_directions(angles: ArrayLike) -> NDArray[np.float64]:
+    """(B, 2) unit vectors for beam angles (radians), to be cached by a sensor."""
+    a = np.asarray(angles, dtype=float)
+    return np.stack([np.cos(a), np.sin(a)], axis=-1)
+
+
+def _prune_segments(segs: NDArray[np.float64], max_range: float) -> NDArray[np.float64]:
+    """Drop segments (already relative to the origin) wholly beyond `max_range`.
+
+    Conservative and cheap: a segment goes only if its bounding circle (centre at its
+    midpoint, radius half its length) lies beyond the range circle.
+    """
+    mx = 0.5 * (segs[:, 0] + segs[:, 2])
+    my = 0.5 * (segs[:, 1] + segs[:, 3])
+    half = 0.5 * np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    keep = np.hypot(mx, my) - half <= max_range
+    return segs if keep.all() else segs[keep]
+
+
+def _on_line_hits(
+    segs: NDArray[np.float64], dirs: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Nearest t per ray for the (few) segments whose line passes through the origin.
+
+    If the origin lies on such a segment every ray hits it at t = 0; otherwise only a
+    ray running along the line toward the segment hits it, at its nearer end.
+    """
+    out = np.full(len(dirs), np.inf)
+    p, q = segs[:, :2], segs[:, 2:]
+    e = q - p
+    length = np.hypot(e[:, 0], e[:, 1])
+    on_seg = np.einsum("ij,ij->i", p, e) * np.einsum("ij,ij->i", q, e) <= 0  # o between p and q
+    if np.any(on_seg):
+        out[:] = 0.0
+        return out
+    keep = length > 0
+    p, q, e, length = p[keep], q[keep], e[keep], length[keep]
+    if len(p) == 0:
+        return out
+    unit = e / length[:, None]
+    # A ray is along the line if its sideways miss at the far end is within tolerance.
+    far = np.maximum(np.hypot(p[:, 0], p[:, 1]), np.hypot(q[:, 0], q[:, 1]))
+    side = np.abs(dirs[:, 0:1] * unit[:, 1] - dirs[:, 1:2] * unit[:, 0]) * far
+    tp, tq = dirs @ p.T, dirs @ q.T  # distance along each ray to each end
+    t = np.minimum(tp, tq)
+    hit = (side <= COLLINEAR_TOL) & (t >= 0)
+    if np.any(hit):
+        out = np.minimum(out, np.where(hit, t, np.inf).min(axis=1))
+    return out
+
+
+class RayCaster:
+    """Casts fans of rays, reusing its scratch buffer from one call to the next.
+
+    One per sensor (not shared between threads). Methods take `dirs` as (B, 2) unit
+    vectors in the world frame; the transpose of a C-ordered (2, B) array saves a copy.
+    """
+
+    def __init__(self, chunk_pairs: int | None = None) -> None:
+        self.chunk_pairs = CHUNK_PAIRS if chunk_pairs is None else max(1, int(chunk_pairs))
+        self._buf = np.empty(0)
+
+    def cast(
+        self,
+        geometry: Geometry,
+        origin: ArrayLike,
+        dirs: NDArray[np.float64],
+        max_range: float = math.inf,
+        *,
+        prune: bool | None = None,
+    ) -> NDArray[np.float64]:
+        """Distance along each ray from `origin` to the nearest solid of `geometry`;
+        `inf` for rays with no hit within `max_range`.
+
+        With `prune` (default: when there are many) segments and circles wholly beyond
+        `max_range` are dropped before the rays x segments block.
+        """
+        return self._cast(origin, dirs, geometry.segments, geometry.circles, max_range, prune)
+
+    def cast_segments(
+        self,
+        origin: ArrayLike,
+        dirs: NDArray[np.float64],
+        segments: NDArray[np.float64],
+        max_range: float = math.inf,
+        *,
+        prune: bool | None = None,
+    ) -> NDArray[np.float64]:
+        """Like `cast`, for (S, 4) segments x1, y1, x2, y2 only."""
+        return self._cast(origin, dirs, segments, _NO_CIRCLES, max_range, prune)
+
+    def cast_circles(
+        self,
+        origin: ArrayLike,
+        dirs: NDArray[np.float64],
+        circles: NDArray[np.float64],
+        max_range: float = math.inf,
+    ) -> NDArray[np.float64]:
+        """Like `cast`, for (M, 3) circles cx, cy, r only."""
+        return self._cast(origin, dirs, _NO_SEGMENTS, circles, max_range, None)
+
+    # -- the work, in inverse range ------------------------------------------------------
+
+    def _cast(
+        self,
+        origin: ArrayLike,
+        dirs: NDArray[np.float64],
+        segments: NDArray[np.float64],
+        circles: NDArray[np.float64],
+        max_range: float,
+        prune: bool | None,
+    ) -> NDArray[np.float64]:
+        ox, oy = float(origin[0]), float(origin[1])  # type: ignore[index]
+        dirs_t = np.ascontiguousarray(dirs.T)
+        n_rays = dirs_t.shape[1]
+        finite = math.isfinite(max_range)
+        best = None  # per ray, the largest 1/t seen: the nearest hit
+        if len(segments) and n_rays:
+            if prune is None:
+                prune = finite and len(segments) >= PRUNE_MIN_SEGMENTS
+            best = self._segments(segments - np.array((ox, oy, ox, oy)), dirs_t, max_range,
+                                  prune)
+        if len(circles) and n_rays:
+            prune_c = finite and len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune
+            k = self._circles(circles - np.array((ox, oy, 0.0)), dirs_t, max_range, prune_c)
+            if k is not None:
+                best = k if best is None else np.fmax(best, k, out=best)
+        if best is None:
+            return np.full(n_rays, np.inf)
+        # No hit (k <= 0, NaN) or none within range: k = 0, read as inf.
+        miss = best >= (1.0 / max_range if finite else _K_MIN)
+        np.logical_not(miss, out=miss)
+        best[miss] = 0.0
+        with np.errstate(divide="ignore"):
+            return np.divide(1.0, best, out=best)
+
+    def _blocks(self, rows: int, n_rays: int) -> tuple[int, NDArray[np.float64]]:
+        """Rays per block for `rows` rows of pairs, and a scratch buffer for one block."""
+        step = max(1, min(n_rays, self.chunk_pairs // rows))
+        if self._buf.size < rows * step:
+            self._buf = np.empty(rows * step)
+        return step, self._buf
+
+    def _segments(
+        self, rel: NDArray[np.float64], dirs_t: NDArray[np.float64], max_range: float,
+        prune: bool,
+    ) -> NDArray[np.float64] | None:
+        """Per ray, the largest 1/t over the segments `rel` (relative to the origin)."""
+        if prune:
+            rel = _prune_segments(rel, max_range)
+        if len(rel) == 0:
+            return None
+        c = rel[:, 0] * rel[:, 3]
+        c -= rel[:, 1] * rel[:, 2]  # a x e = p x q: zero when the line passes the origin
+        extra = None
+        if np.abs(c).min() <= ON_LINE_AREA:
+            on_line = np.abs(c) <= ON_LINE_AREA
+            with np.errstate(divide="ignore"):
+                extra = 1.0 / _on_line_hits(rel[on_line], dirs_t.T)
+            rel, c = rel[~on_line], c[~on_line]
+            if len(rel) == 0:
+                return extra
+        n_segs, n_rays = len(rel), dirs_t.shape[1]
+        coef = rel @ _ROWS
+        coef /= c[:, None]
+        # Stacked [W; V; K] rows, contiguous: one 2-D product (BLAS) fills the three blocks.
+        rows = np.ascontiguousarray(coef.reshape(n_segs, 3, 2).swapaxes(0, 1))
+        rows = rows.reshape(3 * n_segs, 2)
+        best = np.empty(n_rays)
+        step, buf = self._blocks(3 * n_segs, n_rays)
+        for start in range(0, n_rays, step):
+            stop = min(n_rays, start + step)
+            wvk = buf[: 3 * n_segs * (stop - start)].reshape(3, n_segs, stop - start)
+            np.matmul(rows, dirs_t[:, start:stop], out=wvk.reshape(3 * n_segs, -1))
+            w, v, k = wvk[0], wvk[1], wvk[2]
+            np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
+            np.minimum(k, w, out=k)  # so a hit keeps its 1/t and a miss goes <= 0
+            k.max(axis=0, out=best[start:stop])
+        if extra is not None:
+            np.fmax(best, extra, out=best)
+        return best
+
+    def _circles(
+        self, rel: NDArray[np.float64], dirs_t: NDArray[np.float64], max_range: float,
+        prune: bool,
+    ) -> NDArray[np.float64] | None:
+        """Per ray, the largest 1/t over the circles `rel` (centres relative to the origin);
+        NaN for a ray that misses them all."""
+        c = (rel * rel) @ _CIRCLE_C  # |m|^2 - r^2: <= 0 with the origin inside
+        if prune:
+            r = rel[:, 2]
+            keep = c <= max_range * (max_range + 2.0 * r)  # |m| - r <= max_range
+            rel, c = rel[keep], c[keep]
+        if len(c) == 0:
+            return None
+        extra = None
+        if c.min() <= 0:
+            inside = c <= 0
+            # The sensor inside a pillar: t = b + sqrt(b^2 - c), where the ray gets out.
+            b = rel[inside, :2] @ dirs_t
+            extra = (1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0)
+            rel, c = rel[~inside], c[~inside]
+            if len(c) == 0:
+                return extra
+        n_circ, n_rays = len(c), dirs_t.shape[1]
+        root_c = np.sqrt(c)[:, None]
+        rows = rel[:, :2] / root_c  # b' = rows . d
+        inv_root_c = 1.0 / root_c
+        best = np.empty(n_rays)
+        step, buf = self._blocks(2 * n_circ, n_rays)
+        with np.errstate(invalid="ignore"):
+            for start in range(0, n_rays, step):
+                stop = min(n_rays, start + step)
+                n = n_circ * (stop - start)
+                b = np.matmul(rows, dirs_t[:, start:stop], out=buf[:n].reshape(n_circ, -1))
+                k = np.multiply(b, b, out=buf[n : 2 * n].reshape(n_circ, -1))
+                k -= 1.0
+                np.sqrt(k, out=k)  # NaN where the ray's line misses the circle
+                k += b
+                k *= inv_root_c  # 1/t of the near crossing; < 0 for a circle behind
+                np.fmax.reduce(k, axis=0, out=best[start:stop])
+        if extra is not None:
+            np.fmax(best, extra, out=best)
+        return best
+
+
+def cast(
+    geometry: Geometry,
+    origin: ArrayLike,
+    dirs: NDArray[np.float64],
+    max_range: float = math.inf,
+    *,
+    prune: bool | None = None,
+) -> NDArray[np.float64]:
+    """Distance along each ray (from `origin`, unit `dirs` (B, 2), world frame) to the
+    nearest solid of `geometry`; `inf` for rays with no hit within `max_range`.
+
+    A one-off call; a sensor that casts every scan keeps a `RayCaster` instead.
+    """
+    return RayCaster().cast(geometry, origin, dirs, max_range, prune=prune)
+
+
+def cast_segments(
+    origin: ArrayLike,
+    dirs: NDArray[np.float64],
+    segments: NDArray[np.float64],
+    max_range: float = math.inf,
+    *,
+    prune: bool | None = None,
+) -> NDArray[np.float64]:
+    """Distance along each ray to the nearest of (S, 4) segments x1, y1, x2, y2.
+
+    Hits beyond `max_range` read `inf`; with `prune` (default: when there are many
+    segments) segments wholly beyond it are dropped before the S x B block.
+    """
+    return RayCaster().cast_segments(origin, dirs, segments, max_range, prune=prune)
+
+
+def cast_circles(
+    origin: ArrayLike,
+    dirs: NDArray[np.float64],
+    circles: NDArray[np.float64],
+    max_range: float = math.inf,
+) -> NDArray[np.float64]:
+    """Distance along each ray to the nearest of (M, 3) circles cx, cy, r.
+
+    A ray starting inside a circle hits its boundary on the way out, as a ray inside a
+    polygon hits its edges: a solid the sensor is buried in is still seen.
+    """
+    return RayCaster().cast_circles(origin, dirs, circles, max_range)
+
+
+def cast_from_pose(
+    geometry: Geometry,
+    pose: ArrayLike,
+    angles: ArrayLike,
+    max_range: float = math.inf,
+) -> NDArray[np.float64]:
+    """Ranges of beams at `angles` (radians, in the frame of `pose` = x, y, yaw)."""
+    x, y, yaw = (float(v) for v in np.asarray(pose, dtype=float)[:3])
+    return cast(geometry, (x, y), beam_directions(np.asarray(angles, dtype=float) + yaw), max_range)

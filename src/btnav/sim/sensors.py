@@ -1,0 +1,56 @@
+"""Build the robot's sensors from the world file: plugin lookup, params validation, seeding."""
+
+from __future__ import annotations
+
+import importlib
+
+from ..core.errors import BtnavError, WorldError
+from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM
+from ..core.rng import stream
+from ..core.validation import validate
+from ..core.yaml_io import YamlMap
+from ..plugins import lookup
+from .sensor import Sensor
+from .world import World
+
+#: Frames the REP-105 chain owns; a sensor cannot take one of these names.
+RESERVED_FRAMES = (MAP, ODOM, BASE_FOOTPRINT, BASE_LINK)
+#: Modules whose import registers btnav's built-in sensor plugins.
+BUILTIN_SENSOR_MODULES = ("btnav.sim.lidar",)
+
+
+def make_sensors(world: World, seed: int = 0) -> list[Sensor]:
+    """One `Sensor` per `robot.sensors` entry, each on its own `stream(seed, "sensor", frame)`.
+
+    An unknown plugin name, a bad parameter or a duplicate frame is a `BtnavError`
+    located at the entry's line in the world file.
+    """
+    for module in BUILTIN_SENSOR_MODULES:  # imported here: they import this package
+        importlib.import_module(module)
+    sensors: list[Sensor] = []
+    frames: dict[str, int | None] = {}
+    for i, (name, params_doc, line) in enumerate(world.sensor_specs()):
+        key = ["robot", "sensors", i, name]
+        try:
+            cls = lookup("sensor", name)
+        except BtnavError as exc:
+            raise exc.located(file=world.file, line=line, key=key) from None
+        doc = params_doc if params_doc is not None else YamlMap(file=world.file, line=line)
+        params = validate(cls.Params, doc, file=world.file, key_prefix=key, error_cls=WorldError)
+        frame = params.frame
+        where = dict(file=world.file, line=world.spec.line_of(*key, "frame") or line, key=key)
+        if frame in RESERVED_FRAMES:
+            raise WorldError(
+                f"sensor frame '{frame}' is one of the robot's own frames "
+                f"({', '.join(RESERVED_FRAMES)}); name the sensor's frame, e.g. 'laser'",
+                **where,
+            )
+        if frame in frames:
+            raise WorldError(
+                f"two sensors use frame '{frame}' (the other at line {frames[frame]}); "
+                "each sensor needs its own frame",
+                **where,
+            )
+        frames[frame] = line
+        sensors.append(cls(params, world, stream(seed, "sensor", frame)))
+    return sensors

@@ -1,0 +1,258 @@
+"""The pymunk world: static walls and obstacles, kinematic moving obstacles, the robot.
+
+The simulator knows nothing of navigation. It steps physics on sim time, takes a
+velocity command, counts the robot's contacts and hands out its solid geometry
+(for sensors and maps) and the ground-truth pose (for tests, metrics and the
+ground-truth localiser only).
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Any
+
+import numpy as np
+import pymunk
+
+from ..core.clock import NS_PER_S
+from ..core.errors import WorldError
+from ..core.geometry import Pose2D
+from ..core.messages import Twist
+from .geometry import Geometry
+from .moving import Route
+from .robot import ROBOT_COLLISION_TYPE, DiffDriveRobot
+from .scene import Solid, build_solids, solids_geometry
+from .world_spec import WorldSpec, load_world_spec
+
+#: The longest physics step; a longer `step(dt)` is split into equal sub-steps so a
+#: coarse caller does not let the robot tunnel through a thin wall.
+MAX_SUBSTEP_NS = 10_000_000  # 0.01 s
+#: How deep the start footprint may touch something before it counts as overlapping.
+START_OVERLAP_TOLERANCE = 1e-6
+
+
+class _Mover:
+    """A kinematic body carrying one moving obstacle along its route."""
+
+    __slots__ = ("body", "index", "route")
+
+    def __init__(self, index: int, body: pymunk.Body, route: Route) -> None:
+        self.index = index
+        self.body = body
+        self.route = route
+
+
+class World:
+    """A world file brought to life: `step(dt)`, `set_cmd_vel`, `robot_pose`, `geometry()`."""
+
+    def __init__(
+        self, spec: WorldSpec, *, seed: int = 0, file: str | PathLike[str] | None = None
+    ) -> None:
+        self.spec = spec
+        self.seed = seed
+        self.file: str | None = str(file) if file is not None else spec.file
+        self.bounds: tuple[tuple[float, float], tuple[float, float]] = spec.bounds
+        self._ns = 0
+
+        space = pymunk.Space()
+        space.gravity = (0.0, 0.0)
+        space.damping = 1.0
+        # pymunk's default slop (0.1 m) would let the robot sink 10 cm into a wall.
+        space.collision_slop = 0.001
+        space.iterations = 20
+        self.space = space
+
+        self.solids: list[Solid] = build_solids(spec)
+        self._owner: dict[pymunk.Shape, int] = {}
+        self._movers: list[_Mover] = []
+        for index, solid in enumerate(self.solids):
+            self._add_solid(index, solid)
+
+        self.robot = DiffDriveRobot(spec.robot)
+        space.add(self.robot.body, *self.robot.shapes)
+        self._check_start_pose()
+
+        self.collisions = 0
+        self._touching: dict[int, int] = {}  # solid index -> shape pairs in contact
+        space.on_collision(
+            ROBOT_COLLISION_TYPE, None, begin=self._on_begin, separate=self._on_separate
+        )
+
+        static = [s for s in self.solids if s.moves is None]
+        self._static_geometry = solids_geometry(static)
+        _ = self._static_geometry.segments  # computed once; merged() reuses it
+
+    @classmethod
+    def from_file(cls, path: str | PathLike[str], *, seed: int = 0) -> World:
+        """Load, validate and build a world file; every mistake is a located `WorldError`."""
+        spec = load_world_spec(path)
+        return cls(spec, seed=seed, file=path)
+
+    # -- building -----------------------------------------------------------------------
+
+    def _add_solid(self, index: int, solid: Solid) -> None:
+        if solid.moves is None:
+            body = self.space.static_body
+            offset = solid.origin
+        else:
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            body.position = (float(solid.origin[0]), float(solid.origin[1]))
+            self.space.add(body)
+            offset = np.zeros(2)
+            self._movers.append(_Mover(index, body, Route(solid.origin, solid.moves)))
+        shapes: list[pymunk.Shape] = [
+            pymunk.Poly(body, [(float(x), float(y)) for x, y in part + offset])
+            for part in solid.parts
+        ]
+        shapes += [
+            pymunk.Circle(body, float(r), (float(x + offset[0]), float(y + offset[1])))
+            for x, y, r in solid.circles
+        ]
+        for s in shapes:
+            s.friction = 0.0
+            s.elasticity = 0.0
+            self._owner[s] = index
+        self.space.add(*shapes)
+
+    def _describe(self, solid: Solid) -> str:
+        line = self.spec.line_of(*solid.key)
+        return solid.label + (f" (line {line})" if line else "")
+
+    def _check_start_pose(self) -> None:
+        """A start pose outside the bounds or overlapping anything solid is the user's mistake."""
+        x, y, yaw = self.spec.robot.pose
+        where = dict(file=self.file, line=self.spec.line_of("robot", "pose"), key="robot.pose")
+        (x0, y0), (x1, y1) = self.bounds
+        if not (x0 <= x <= x1 and y0 <= y <= y1):
+            raise WorldError(
+                f"the start pose ({x:g}, {y:g}) is outside the world's bounds "
+                f"[[{x0:g}, {y0:g}], [{x1:g}, {y1:g}]]",
+                **where,
+            )
+        hits: list[int] = []
+        own = set(self.robot.shapes)
+        for shape in self.robot.shapes:
+            for info in self.space.shape_query(shape):
+                if info.shape in own or info.shape not in self._owner:
+                    continue
+                cps = info.contact_point_set
+                depth = min((p.distance for p in cps.points), default=0.0)
+                # pymunk reports a zero normal (and depth 0) when the centres coincide.
+                degenerate = cps.normal.length == 0.0
+                index = self._owner[info.shape]
+                if (depth < -START_OVERLAP_TOLERANCE or degenerate) and index not in hits:
+                    hits.append(index)
+        if hits:
+            names = ", ".join(self._describe(self.solids[i]) for i in sorted(hits))
+            raise WorldError(
+                f"the robot's footprint at its start pose ({x:g}, {y:g}, {yaw:g}) overlaps {names}; "
+                "move the robot or the obstacle",
+                **where,
+            )
+
+    # -- contacts -----------------------------------------------------------------------
+
+    def _on_begin(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        index = self._other(arbiter)
+        if index is None:
+            return
+        n = self._touching.get(index, 0)
+        if n == 0:
+            self.collisions += 1  # a new contact with this wall or obstacle
+        self._touching[index] = n + 1
+
+    def _on_separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        index = self._other(arbiter)
+        if index is None:
+            return
+        n = self._touching.get(index, 0) - 1
+        if n <= 0:
+            self._touching.pop(index, None)
+        else:
+            self._touching[index] = n
+
+    def _other(self, arbiter: pymunk.Arbiter) -> int | None:
+        a, b = arbiter.shapes
+        other = b if a.collision_type == ROBOT_COLLISION_TYPE else a
+        return self._owner.get(other)
+
+    @property
+    def in_contact(self) -> bool:
+        """Whether the robot touches anything right now."""
+        return bool(self._touching)
+
+    # -- stepping -----------------------------------------------------------------------
+
+    @property
+    def time(self) -> float:
+        """Sim seconds since the start (kept in integer nanoseconds)."""
+        return self._ns / NS_PER_S
+
+    @property
+    def time_ns(self) -> int:
+        return self._ns
+
+    def step(self, dt: float) -> None:
+        """Advance physics by `dt` seconds (split into sub-steps of at most 0.01 s)."""
+        total = round(dt * NS_PER_S)
+        if total < 0:
+            raise ValueError(f"sim time never runs backwards (dt={dt})")
+        if total == 0:
+            return
+        n = -(-total // MAX_SUBSTEP_NS)
+        base, extra = divmod(total, n)
+        for i in range(n):
+            self._substep(base + (1 if i < extra else 0))
+
+    def _substep(self, ns: int) -> None:
+        h = ns / NS_PER_S
+        t_next = (self._ns + ns) / NS_PER_S
+        self.robot.control(h)
+        targets = []
+        for m in self._movers:
+            tx, ty = m.route.position_at(t_next)
+            px, py = m.body.position
+            m.body.velocity = ((tx - px) / h, (ty - py) / h)
+            targets.append((tx, ty))
+        self.space.step(h)
+        for m, target in zip(self._movers, targets, strict=True):
+            # Snap to the exact route position: no drift from summed velocities.
+            m.body.position = target
+        self._ns += ns
+
+    # -- robot --------------------------------------------------------------------------
+
+    def set_cmd_vel(self, cmd: Twist) -> None:
+        """The velocity command the robot follows (within its limits) until the next one."""
+        self.robot.set_cmd_vel(cmd)
+
+    @property
+    def robot_pose(self) -> Pose2D:
+        """Ground truth: base_footprint in world (= map) coordinates."""
+        return self.robot.pose
+
+    @property
+    def robot_twist(self) -> Twist:
+        """Ground-truth velocity in the robot frame."""
+        return self.robot.twist
+
+    # -- what sensors and maps see ------------------------------------------------------
+
+    def geometry(self) -> Geometry:
+        """Everything solid except the robot, now (moving obstacles where they are)."""
+        if not self._movers:
+            return self._static_geometry
+        solids = [self.solids[m.index] for m in self._movers]
+        positions = [np.array(m.body.position, dtype=float) for m in self._movers]
+        return self._static_geometry.merged(solids_geometry(solids, positions))
+
+    def sensor_specs(self) -> list[tuple[str, Any, int | None]]:
+        """The robot's sensor entries as written: (plugin name, params document, line)."""
+        out = []
+        for i, entry in enumerate(self.spec.robot.sensors):
+            name, params = next(iter(entry.items()))
+            out.append((name, params, self.spec.line_of("robot", "sensors", i)))
+        return out
+
+    def __repr__(self) -> str:
+        return f"World({self.spec.world!r}, t={self.time:.3f}, robot={self.robot_pose})"

@@ -1,0 +1,402 @@
+"""The world YAML, as pydantic models: what a world file may say, checked with line numbers.
+
+A world file describes the physical scene (bounds, walls, obstacles, some of them
+moving) and the robot (footprint, start pose, drive limits, odometry noise,
+sensors). `load_world_spec` reads one and turns every mistake into a `WorldError`
+naming the file, the line, the key path and, for a misspelt key, the right spelling.
+Geometry that cannot be checked key by key (a start pose inside a wall) is checked
+by `World` against the physics, with the line of `robot.pose`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from os import PathLike
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model_validator
+
+from ..core.errors import WorldError
+from ..core.validation import StrictModel, validate
+from ..core.yaml_io import line_at, load_yaml, load_yaml_text
+
+#: Coordinates beyond this (metres) are a mistake, not a building; it also keeps
+#: pymunk and the rasteriser away from float overflow.
+MAX_COORD = 1.0e5
+#: The largest size of one thing (box side, radius, wall thickness), metres.
+MAX_SIZE = 1.0e4
+#: The smallest size of one thing: below a millimetre a shape is a typo, and pymunk
+#: needs a positive area to build it.
+MIN_SIZE = 1.0e-3
+#: Polygons are checked for self-intersection pairwise; this keeps that check cheap.
+MAX_POLYGON_POINTS = 1000
+
+
+def _finite_number(v: Any) -> Any:
+    """YAML `true` is not a number, and NaN/inf have no place in a scene."""
+    if isinstance(v, bool):
+        raise ValueError("expected a number, not true/false")
+    if isinstance(v, float) and not math.isfinite(v):
+        raise ValueError("expected a finite number")
+    return v
+
+
+#: A finite number that is not a boolean; bounds go in the field's `Field(...)`.
+Real = Annotated[float, BeforeValidator(_finite_number), Field(allow_inf_nan=False)]
+Coord = Annotated[
+    float, BeforeValidator(_finite_number), Field(allow_inf_nan=False, ge=-MAX_COORD, le=MAX_COORD)
+]
+Size = Annotated[
+    float, BeforeValidator(_finite_number), Field(allow_inf_nan=False, ge=MIN_SIZE, le=MAX_SIZE)
+]
+Angle = Annotated[
+    float, BeforeValidator(_finite_number), Field(allow_inf_nan=False, ge=-1000.0, le=1000.0)
+]
+
+
+def _numbers(n: int, what: str) -> Any:
+    """A before-validator: a list of exactly `n` items, with a message that says what it is."""
+
+    def check(v: Any) -> Any:
+        if isinstance(v, list | tuple) and len(v) != n:
+            raise ValueError(f"{what}, got {len(v)} item{'s' if len(v) != 1 else ''}")
+        return v
+
+    return BeforeValidator(check)
+
+
+Point = Annotated[tuple[Coord, Coord], _numbers(2, "a point is [x, y]")]
+
+
+# -- polygon checks -----------------------------------------------------------------
+
+
+def signed_area(points: np.ndarray) -> float:
+    """Shoelace area: positive for counter-clockwise vertices."""
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def crossing_edges(points: np.ndarray) -> tuple[int, int] | None:
+    """The first pair of non-adjacent edges of a closed polygon that touch or cross, or None.
+
+    Vectorised over all edge pairs (K <= MAX_POLYGON_POINTS keeps it under a million).
+    """
+    p = np.asarray(points, dtype=float)
+    k = len(p)
+    if k < 4:
+        return None
+    a, b = p, np.roll(p, -1, axis=0)
+    i, j = np.triu_indices(k, 2)
+    keep = ~((i == 0) & (j == k - 1))  # the first and last edges share a vertex
+    i, j = i[keep], j[keep]
+
+    def orient(p1: np.ndarray, p2: np.ndarray, p3: np.ndarray) -> np.ndarray:
+        return (p2[:, 0] - p1[:, 0]) * (p3[:, 1] - p1[:, 1]) - (p2[:, 1] - p1[:, 1]) * (
+            p3[:, 0] - p1[:, 0]
+        )
+
+    a1, b1, a2, b2 = a[i], b[i], a[j], b[j]
+    scale = max(1.0, float(np.abs(p).max()))
+    eps = 1e-12 * scale * scale
+    d1, d2 = orient(a2, b2, a1), orient(a2, b2, b1)
+    d3, d4 = orient(a1, b1, a2), orient(a1, b1, b2)
+    proper = (((d1 > eps) & (d2 < -eps)) | ((d1 < -eps) & (d2 > eps))) & (
+        ((d3 > eps) & (d4 < -eps)) | ((d3 < -eps) & (d4 > eps))
+    )
+
+    def on_segment(p1: np.ndarray, p2: np.ndarray, q: np.ndarray, d: np.ndarray) -> np.ndarray:
+        lo, hi = np.minimum(p1, p2), np.maximum(p1, p2)
+        return (np.abs(d) <= eps) & np.all((q >= lo - 1e-12 * scale) & (q <= hi + 1e-12 * scale), 1)
+
+    touching = (
+        on_segment(a2, b2, a1, d1)
+        | on_segment(a2, b2, b1, d2)
+        | on_segment(a1, b1, a2, d3)
+        | on_segment(a1, b1, b2, d4)
+    )
+    hit = np.flatnonzero(proper | touching)
+    if hit.size == 0:
+        return None
+    return int(i[hit[0]]), int(j[hit[0]])
+
+
+def check_polygon(points: Sequence[Sequence[float]]) -> list[tuple[float, float]]:
+    """A simple polygon's vertices without a repeated closing point; ValueError otherwise."""
+    pts = [(float(x), float(y)) for x, y in points]
+    if len(pts) > 1 and pts[0] == pts[-1]:
+        pts = pts[:-1]
+    # Consecutive duplicates add nothing and would read as touching edges.
+    pts = [p for n, p in enumerate(pts) if n == 0 or p != pts[n - 1]]
+    if len(pts) < 3:
+        raise ValueError("a polygon needs at least 3 distinct points")
+    arr = np.array(pts)
+    pair = crossing_edges(arr)
+    if pair is not None:
+        e1, e2 = pair
+        raise ValueError(
+            f"the polygon crosses itself: edge {e1} ({pts[e1]} -> {pts[(e1 + 1) % len(pts)]}) "
+            f"meets edge {e2} ({pts[e2]} -> {pts[(e2 + 1) % len(pts)]}); "
+            "list the points in order around the outline"
+        )
+    if abs(signed_area(arr)) < MIN_SIZE * MIN_SIZE:
+        raise ValueError("the polygon has no area (its points are on one line)")
+    return pts
+
+
+PolygonPoints = Annotated[list[Point], Field(min_length=3, max_length=MAX_POLYGON_POINTS + 1)]
+
+
+# -- scene ----------------------------------------------------------------------------
+
+
+class MovesSpec(StrictModel):
+    """A kinematic obstacle's route: its centre goes from where it is through `path`."""
+
+    path: list[Point] = Field(min_length=1, max_length=10_000)
+    speed: Real = Field(gt=0, le=100, description="m/s along the route")
+    loop: bool = Field(False, description="back and forth forever; false stops at the last point")
+
+
+class BoxSpec(StrictModel):
+    center: Point
+    size: Annotated[tuple[Size, Size], _numbers(2, "a size is [length_x, length_y]")]
+    yaw: Angle = 0.0
+    moves: MovesSpec | None = None
+
+
+class CircleSpec(StrictModel):
+    center: Point
+    radius: Size
+    moves: MovesSpec | None = None
+
+
+class PolygonSpec(StrictModel):
+    points: PolygonPoints
+    moves: MovesSpec | None = None
+
+    @field_validator("points")
+    @classmethod
+    def _simple(cls, v: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        return check_polygon(v)
+
+
+ObstacleKind = Literal["box", "circle", "polygon"]
+OBSTACLE_KINDS: tuple[str, ...] = ("box", "circle", "polygon")
+
+
+_EXAMPLES = {
+    "box": "{center: [x, y], size: [sx, sy], yaw: 0}",
+    "circle": "{center: [x, y], radius: r}",
+    "polygon": "{points: [[x, y], ...]}",
+}
+
+
+class ObstacleEntry(StrictModel):
+    """One obstacle, written as a one-key mapping: `- box: {...}`, `- circle: {...}`, `- polygon: {...}`."""
+
+    box: BoxSpec | None = None
+    circle: CircleSpec | None = None
+    polygon: PolygonSpec | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _one_key(cls, data: Any) -> Any:
+        if not isinstance(data, dict):
+            raise ValueError(
+                "an obstacle is a one-key mapping: box: {...}, circle: {...} or polygon: {...}"
+            )
+        known = [k for k in data if k in OBSTACLE_KINDS]
+        if not data:
+            raise ValueError("an empty obstacle; write box: {...}, circle: {...} or polygon: {...}")
+        if len(known) > 1:
+            raise ValueError(f"one obstacle per list item, got {' and '.join(map(str, known))}")
+        if len(known) == 1 and data[known[0]] is None:
+            raise ValueError(
+                f"'{known[0]}' needs its parameters: {known[0]}: {_EXAMPLES[known[0]]}"
+            )
+        return data
+
+    @property
+    def kind(self) -> str:
+        for k in OBSTACLE_KINDS:
+            if getattr(self, k) is not None:
+                return k
+        raise AssertionError("validated obstacles have one kind")  # pragma: no cover
+
+    @property
+    def shape(self) -> BoxSpec | CircleSpec | PolygonSpec:
+        return getattr(self, self.kind)
+
+    @property
+    def moves(self) -> MovesSpec | None:
+        return self.shape.moves
+
+
+def _polyline_as_wall(v: Any) -> Any:
+    """A bare polyline is a wall of default thickness."""
+    return {"points": v} if isinstance(v, list) else v
+
+
+class WallSpec(StrictModel):
+    """A polyline of thickness `thickness`, centred on the line (butt ends, round joints)."""
+
+    points: list[Point] = Field(min_length=2, max_length=100_000)
+    thickness: Size = 0.10
+
+    @field_validator("points")
+    @classmethod
+    def _has_length(cls, v: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        if all(p == v[0] for p in v):
+            raise ValueError("a wall needs at least two distinct points")
+        return v
+
+
+WallEntry = Annotated[WallSpec, BeforeValidator(_polyline_as_wall)]
+
+
+# -- robot ----------------------------------------------------------------------------
+
+
+class FootprintSpec(StrictModel):
+    """`{radius: r}` or `{polygon: [[x, y], ...]}` in base_footprint (the rotation centre)."""
+
+    radius: Real | None = Field(None, ge=0.01, le=100.0)
+    polygon: PolygonPoints | None = None
+
+    @field_validator("polygon")
+    @classmethod
+    def _simple(cls, v: list[tuple[float, float]] | None) -> list[tuple[float, float]] | None:
+        if v is None:
+            return v
+        pts = check_polygon(v)
+        if max(math.hypot(x, y) for x, y in pts) > 100.0:
+            raise ValueError("a footprint vertex is more than 100 m from the robot's centre")
+        if abs(signed_area(np.array(pts))) < 1e-4:
+            raise ValueError("the footprint polygon is smaller than 1 cm^2")
+        return pts
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> FootprintSpec:
+        if (self.radius is None) == (self.polygon is None):
+            raise ValueError("a footprint is either {radius: r} or {polygon: [[x, y], ...]}")
+        return self
+
+
+class LimitsSpec(StrictModel):
+    """Drive limits: speeds (m/s, rad/s) and accelerations (m/s^2, rad/s^2)."""
+
+    v_max: Real = Field(0.5, gt=0, le=100)
+    v_min: Real | None = Field(
+        None, ge=-100, le=0, description="most negative linear speed (reversing); default -v_max"
+    )
+    w_max: Real = Field(1.5, gt=0, le=100)
+    a_max: Real = Field(1.0, gt=0, le=1000)
+    alpha_max: Real = Field(3.0, gt=0, le=1000)
+
+    @property
+    def v_low(self) -> float:
+        """The most negative linear speed allowed."""
+        return -self.v_max if self.v_min is None else self.v_min
+
+
+Alpha = Annotated[float, BeforeValidator(_finite_number), Field(ge=0, le=10)]
+
+
+class OdometrySpec(StrictModel):
+    """AMCL's differential-drive alphas, as variance per metre or radian of motion."""
+
+    noise: Annotated[
+        tuple[Alpha, Alpha, Alpha, Alpha], _numbers(4, "noise is [alpha1, alpha2, alpha3, alpha4]")
+    ] = (0.0, 0.0, 0.0, 0.0)
+    rate: Real = Field(50.0, gt=0, le=10_000, description="odometry messages per second")
+
+
+class RobotSpec(StrictModel):
+    drive: Literal["diff_drive"] = "diff_drive"
+    footprint: FootprintSpec = Field(default_factory=lambda: FootprintSpec(radius=0.22))
+    pose: Annotated[tuple[Coord, Coord, Angle], _numbers(3, "a pose is [x, y, yaw]")]
+    limits: LimitsSpec = Field(default_factory=LimitsSpec)
+    odometry: OdometrySpec = Field(default_factory=OdometrySpec)
+    #: Raw entries (`{plugin_name: params}`), kept as loaded so their lines survive;
+    #: each plugin's own `Params` validates them when the sensors are built.
+    sensors: list[Any] = Field(default_factory=list, max_length=1000)
+
+    @field_validator("sensors")
+    @classmethod
+    def _one_key_each(cls, v: list[Any]) -> list[Any]:
+        for entry in v:
+            if not (isinstance(entry, dict) and len(entry) == 1):
+                raise ValueError(
+                    "each sensor is a one-key mapping {plugin_name: {params}}, e.g. - lidar: {...}"
+                )
+            name, params = next(iter(entry.items()))
+            if not isinstance(name, str):
+                raise ValueError(f"a sensor's plugin name is a string, got {name!r}")
+            if params is not None and not isinstance(params, dict):
+                raise ValueError(f"the parameters of sensor '{name}' are a mapping")
+        return v
+
+
+class WorldSpec(StrictModel):
+    """A whole world file."""
+
+    world: str = Field("world", max_length=200, description="the world's name")
+    bounds: Annotated[
+        tuple[Point, Point], _numbers(2, "bounds are [[x_min, y_min], [x_max, y_max]]")
+    ]
+    walls: list[WallEntry] = Field(default_factory=list)
+    obstacles: list[ObstacleEntry] = Field(default_factory=list)
+    robot: RobotSpec
+
+    _doc: Any = PrivateAttr(default=None)
+    _file: str | None = PrivateAttr(default=None)
+
+    @field_validator("bounds")
+    @classmethod
+    def _ordered(
+        cls, v: tuple[tuple[float, float], tuple[float, float]]
+    ) -> tuple[tuple[float, float], tuple[float, float]]:
+        (x0, y0), (x1, y1) = v
+        if not (x1 - x0 >= MIN_SIZE and y1 - y0 >= MIN_SIZE):
+            raise ValueError("bounds are [[x_min, y_min], [x_max, y_max]] with max > min")
+        return v
+
+    @property
+    def file(self) -> str | None:
+        return self._file
+
+    def line_of(self, *path: str | int) -> int | None:
+        """The line in the world file of the deepest part of `path` that exists."""
+        return line_at(self._doc, path) if self._doc is not None else None
+
+    @classmethod
+    def from_doc(cls, doc: Any, file: str | PathLike[str] | None = None) -> WorldSpec:
+        """Validate a loaded YAML document (keeps it for line lookups)."""
+        name = None if file is None else str(file)
+        if doc is None:
+            raise WorldError("the world file is empty", file=name)
+        if not isinstance(doc, dict):
+            raise WorldError(
+                f"a world file is a mapping (world, bounds, walls, obstacles, robot), "
+                f"got {type(doc).__name__}",
+                file=name,
+                line=getattr(doc, "line", None),
+            )
+        spec = validate(cls, doc, file=name, error_cls=WorldError)
+        spec._doc = doc
+        spec._file = name
+        return spec
+
+    @classmethod
+    def from_text(cls, text: str | bytes, file: str | PathLike[str] | None = None) -> WorldSpec:
+        return cls.from_doc(load_yaml_text(text, file), file)
+
+
+def load_world_spec(path: str | PathLike[str]) -> WorldSpec:
+    """Read and validate a world file; any mistake is a located `BtnavError`."""
+    p = Path(path)
+    return WorldSpec.from_doc(load_yaml(p), p)
