@@ -80,3 +80,18 @@ def test_missing_plugin_module_or_file_is_a_user_error(tmp_path):
     with pytest.raises(PluginError, match="syntax error") as info:
         plugins.load_plugins(["broken.py"], tmp_path)
     assert info.value.line == 1
+
+
+def test_a_users_plugin_keeps_a_builtin_name_whatever_the_import_order():
+    user = type("MyPlanner", (), {"__module__": "my_pkg.planners"})
+    builtin = type("NavFn", (), {"__module__": "btnav.planning.navfn"})
+    try:
+        plugins.register("planner", "btnav/NavFnTest")(user)
+        plugins.register("planner", "btnav/NavFnTest")(builtin)  # imported later
+        assert plugins.lookup("planner", "btnav/NavFnTest") is user
+    finally:
+        plugins.unregister("planner", "btnav/NavFnTest")
+    plugins.register("planner", "btnav/NavFnTest")(builtin)
+    plugins.register("planner", "btnav/NavFnTest")(user)  # a user's replaces a built-in
+    assert plugins.lookup("planner", "btnav/NavFnTest") is user
+    plugins.unregister("planner", "btnav/NavFnTest")

@@ -69,7 +69,8 @@ def register(kind: str, name: str, *, aliases: Iterable[str] = ()) -> Callable[[
     """Class decorator: make `cls` the plugin `name` of `kind` (and of each alias).
 
     Registering a second class under a taken name replaces the first, so a user's
-    plugin can stand in for a built-in one by taking its name.
+    plugin can stand in for a built-in one by taking its name (a built-in imported
+    later never takes the name back).
     """
     table = _check_kind(kind)
 
@@ -77,6 +78,8 @@ def register(kind: str, name: str, *, aliases: Iterable[str] = ()) -> Callable[[
         primary = canonical(name)
         for spelling in (name, *aliases):
             key = canonical(spelling)
+            if _is_builtin(cls) and key in table and not _is_builtin(table[key]):
+                continue  # a user's plugin keeps its name whatever the import order
             table[key] = cls
             _primary[kind][key] = primary
         cls.plugin_kind = kind  # type: ignore[attr-defined]
@@ -84,6 +87,10 @@ def register(kind: str, name: str, *, aliases: Iterable[str] = ()) -> Callable[[
         return cls
 
     return deco
+
+
+def _is_builtin(cls: Any) -> bool:
+    return getattr(cls, "__module__", "").split(".")[0] == "btnav"
 
 
 def unregister(kind: str, name: str) -> None:

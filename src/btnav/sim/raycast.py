@@ -68,8 +68,8 @@ _ROWS = np.hstack([_BIG * _W_COLS, _BIG * (_K_COLS - _W_COLS), _K_COLS])
 _CIRCLE_C = np.array([1.0, 1.0, -1.0])
 _NO_SEGMENTS = np.zeros((0, 4))
 _NO_CIRCLES = np.zeros((0, 3))
-#: The smallest positive inverse range: a ray with no hit nearer than 1/this is a miss.
-_K_MIN = float(np.finfo(float).tiny)
+#: Where rays end when `max_range` is infinite (metres): no world is this big.
+_FAR = 1e100
 
 
 def beam_directions(angles: ArrayLike) -> NDArray[np.float64]:
@@ -187,26 +187,25 @@ class RayCaster:
         ox, oy = float(origin[0]), float(origin[1])  # type: ignore[index]
         dirs_t = np.ascontiguousarray(dirs.T)
         n_rays = dirs_t.shape[1]
-        finite = math.isfinite(max_range)
+        # Hits beyond `cap` read inf; an infinite max_range still needs a finite cap here.
+        cap = max_range if math.isfinite(max_range) else _FAR
         best = None  # per ray, the largest 1/t seen: the nearest hit
         if len(segments) and n_rays:
-            if prune is None:
-                prune = finite and len(segments) >= PRUNE_MIN_SEGMENTS
-            best = self._segments(segments - np.array((ox, oy, ox, oy)), dirs_t, max_range,
-                                  prune)
+            prune_s = len(segments) >= PRUNE_MIN_SEGMENTS if prune is None else prune
+            best = self._segments(segments - (ox, oy, ox, oy), dirs_t, cap, prune_s)
         if len(circles) and n_rays:
-            prune_c = finite and len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune
-            k = self._circles(circles - np.array((ox, oy, 0.0)), dirs_t, max_range, prune_c)
+            prune_c = len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune
+            k = self._circles(circles - (ox, oy, 0.0), dirs_t, cap, prune_c)
             if k is not None:
                 best = k if best is None else np.fmax(best, k, out=best)
         if best is None:
             return np.full(n_rays, np.inf)
-        # No hit (k <= 0, NaN) or none within range: k = 0, read as inf.
-        miss = best >= (1.0 / max_range if finite else _K_MIN)
-        np.logical_not(miss, out=miss)
-        best[miss] = 0.0
-        with np.errstate(divide="ignore"):
-            return np.divide(1.0, best, out=best)
+        # A miss left k <= 0 or NaN: raising it to 1 / (2 cap) makes every miss read beyond
+        # the cap, and the division never meets a zero.
+        np.fmax(best, 0.5 / cap, out=best)
+        t = np.divide(1.0, best, out=best)
+        t[t > cap] = np.inf
+        return t
 
     def _blocks(self, rows: int, n_rays: int) -> tuple[int, NDArray[np.float64]]:
         """Rays per block for `rows` rows of pairs, and a scratch buffer for one block."""
@@ -237,16 +236,14 @@ class RayCaster:
         n_segs, n_rays = len(rel), dirs_t.shape[1]
         coef = rel @ _ROWS
         coef /= c[:, None]
-        # Stacked [W; V; K] rows, contiguous: one 2-D product (BLAS) fills the three blocks.
-        rows = np.ascontiguousarray(coef.reshape(n_segs, 3, 2).swapaxes(0, 1))
-        rows = rows.reshape(3 * n_segs, 2)
+        rows = coef.reshape(3 * n_segs, 2)  # W, V and K rows of each segment in turn
         best = np.empty(n_rays)
         step, buf = self._blocks(3 * n_segs, n_rays)
         for start in range(0, n_rays, step):
             stop = min(n_rays, start + step)
-            wvk = buf[: 3 * n_segs * (stop - start)].reshape(3, n_segs, stop - start)
-            np.matmul(rows, dirs_t[:, start:stop], out=wvk.reshape(3 * n_segs, -1))
-            w, v, k = wvk[0], wvk[1], wvk[2]
+            wvk = np.matmul(rows, dirs_t[:, start:stop],
+                            out=buf[: 3 * n_segs * (stop - start)].reshape(3 * n_segs, -1))
+            w, v, k = wvk[0::3], wvk[1::3], wvk[2::3]
             np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
             np.minimum(k, w, out=k)  # so a hit keeps its 1/t and a miss goes <= 0
             k.max(axis=0, out=best[start:stop])
@@ -262,8 +259,7 @@ class RayCaster:
         NaN for a ray that misses them all."""
         c = (rel * rel) @ _CIRCLE_C  # |m|^2 - r^2: <= 0 with the origin inside
         if prune:
-            r = rel[:, 2]
-            keep = c <= max_range * (max_range + 2.0 * r)  # |m| - r <= max_range
+            keep = c <= max_range * (max_range + 2.0 * rel[:, 2])  # |m| - r <= max_range
             rel, c = rel[keep], c[keep]
         if len(c) == 0:
             return None

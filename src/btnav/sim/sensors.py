@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
-
 from ..core.errors import BtnavError, WorldError
 from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM
 from ..core.rng import stream
@@ -15,8 +13,6 @@ from .world import World
 
 #: Frames the REP-105 chain owns; a sensor cannot take one of these names.
 RESERVED_FRAMES = (MAP, ODOM, BASE_FOOTPRINT, BASE_LINK)
-#: Modules whose import registers btnav's built-in sensor plugins.
-BUILTIN_SENSOR_MODULES = ("btnav.sim.lidar",)
 
 
 def make_sensors(world: World, seed: int = 0) -> list[Sensor]:
@@ -25,8 +21,6 @@ def make_sensors(world: World, seed: int = 0) -> list[Sensor]:
     An unknown plugin name, a bad parameter or a duplicate frame is a `BtnavError`
     located at the entry's line in the world file.
     """
-    for module in BUILTIN_SENSOR_MODULES:  # imported here: they import this package
-        importlib.import_module(module)
     sensors: list[Sensor] = []
     frames: dict[str, int | None] = {}
     for i, (name, params_doc, line) in enumerate(world.sensor_specs()):
