@@ -60,8 +60,9 @@ def _line(name: str, value: float, unit: str, target: float | None = None) -> No
 # -- (a) the bare world -----------------------------------------------------------------
 
 
-def run_world(world: World, sim_seconds: float) -> tuple[float, int]:
-    """Drive the circle for `sim_seconds`; returns wall seconds and scans taken."""
+def run_world(world: World, sim_seconds: float) -> tuple[float, int, dict[str, float]]:
+    """Drive the circle for `sim_seconds`; returns wall seconds, scans taken and the wall
+    seconds spent in physics, lidar and odometry."""
     lidar = next(s for s in make_sensors(world, seed=0) if isinstance(s, Lidar))
     odom = make_odometry(world, seed=0)
     clock = SimClock()
@@ -69,36 +70,55 @@ def run_world(world: World, sim_seconds: float) -> tuple[float, int]:
     dt = 1.0 / PHYSICS_HZ
     steps = round(sim_seconds * PHYSICS_HZ)
     scans = 0
+    spent = {"physics": 0.0, "lidar": 0.0, "odometry": 0.0}
     world.set_cmd_vel(CIRCLE)
-    t0 = time.perf_counter()
+    now_wall = time.perf_counter
+    t0 = now_wall()
     for _ in range(steps):
+        ta = now_wall()
         world.step(dt)
+        tb = now_wall()
+        spent["physics"] += tb - ta
         clock.advance(dt)
         now = clock.now
         if odom_rate.due(clock):
+            tb = now_wall()
             odom.update(now)
+            spent["odometry"] += now_wall() - tb
         if lidar_rate.due(clock):
+            tb = now_wall()
             lidar.measure(now)
+            spent["lidar"] += now_wall() - tb
             scans += 1
-    return time.perf_counter() - t0, scans
+    return now_wall() - t0, scans, spent
 
 
 def bench_world(sim_seconds: float) -> float:
     world = World.from_file(SMALL_OFFICE, seed=0)
     run_world(World.from_file(SMALL_OFFICE, seed=0), 2.0)  # warm-up
-    wall, scans = run_world(world, sim_seconds)
+    wall, scans, spent = run_world(world, sim_seconds)
     rtf = sim_seconds / wall
     g = world.geometry()
     print(f"(a) bare world: small_office ({len(g.segments)} segments, {len(g.circles)} circles),"
           f" {sim_seconds:g} sim s, {scans} scans, collisions {world.collisions}")
     _line("real-time factor (sim s per wall s)", rtf, "x", TARGET_RTF)
+    per_sim_s = {k: 1e3 * v / sim_seconds for k, v in spent.items()}
+    rest = 1e3 * wall / sim_seconds - sum(per_sim_s.values())
+    parts = ", ".join(f"{k} {v:.2f}" for k, v in [*per_sim_s.items(), ("loop", rest)])
+    print(f"  wall ms per sim s: {parts}; the 300x budget is {1e3 / TARGET_RTF:.2f}")
+    print(f"  one physics step {1e6 * spent['physics'] / (sim_seconds * PHYSICS_HZ):.1f} us,"
+          f" one scan {1e6 * spent['lidar'] / max(scans, 1):.1f} us,"
+          f" one odometry update {1e6 * spent['odometry'] / (sim_seconds * ODOM_HZ):.1f} us")
     return rtf
 
 
 # -- (b) scans per second in a cluttered world ------------------------------------------
 
 
-def cluttered_doc(n_boxes: int = 24, seed: int = 1) -> dict:
+N_BOXES = 24
+
+
+def cluttered_doc(n_boxes: int = N_BOXES, seed: int = 1) -> dict:
     """small_office plus `n_boxes` small boxes (4 segments each), none on the robot."""
     doc = copy.deepcopy(load_yaml(SMALL_OFFICE))
     rng = np.random.default_rng(seed)
@@ -117,20 +137,27 @@ def cluttered_doc(n_boxes: int = 24, seed: int = 1) -> dict:
     return doc
 
 
-def bench_scans(n_scans: int) -> float:
-    world = World(WorldSpec.from_doc(cluttered_doc()), seed=0)
+def scans_per_second(world: World, n_scans: int) -> float:
+    """Lidar scans per wall second from the robot's start, world.geometry() included."""
     lidar = next(s for s in make_sensors(world, seed=0) if isinstance(s, Lidar))
-    g = world.geometry()
     for i in range(50):
         lidar.measure(i * 0.1)
     t0 = time.perf_counter()
     for i in range(n_scans):
         lidar.measure(i * 0.1)
-    rate = n_scans / (time.perf_counter() - t0)
-    print(f"(b) lidar: {lidar.params.beams} beams in a world of {len(g.segments)} segments"
-          f" and {len(g.circles)} circles (world.geometry() included)")
+    return n_scans / (time.perf_counter() - t0)
+
+
+def bench_scans(n_scans: int) -> tuple[float, float]:
+    world = World(WorldSpec.from_doc(cluttered_doc()), seed=0)
+    g = world.geometry()
+    rate = scans_per_second(world, n_scans)
+    office = scans_per_second(World.from_file(SMALL_OFFICE, seed=0), n_scans)
+    print(f"(b) lidar, 360 beams, in a world of {len(g.segments)} segments and {len(g.circles)}"
+          f" circles (small_office and {N_BOXES} boxes)")
     _line("scans per second", rate, "scans/s", TARGET_SCANS)
-    return rate
+    _line("scans per second in small_office itself", office, "scans/s")
+    return rate, office
 
 
 # -- (c) the same world in IR-SIM -------------------------------------------------------
@@ -232,9 +259,14 @@ def _no_sensors() -> None:
     return None
 
 
-def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_scans: float) -> None:
+def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_office_scans: float) -> None:
+    import contextlib
+    import io
+
     try:
-        import irsim
+        # IR-SIM prints its attempts at interactive matplotlib backends on import.
+        with contextlib.redirect_stdout(io.StringIO()):
+            import irsim
     except ImportError:
         print("(c) IR-SIM is not installed (pip install 'btnav[bench]' or pip install ir-sim):"
               " skipped")
@@ -264,8 +296,9 @@ def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_scans: float) -> Non
           f"{sim_seconds:g} sim s, {scans} scans, headless")
     _line("IR-SIM real-time factor", rtf, "x")
     _line("btnav / IR-SIM, real-time factor", btnav_rtf / rtf, "x")
-    _line("IR-SIM scans per second (small_office)", scan_rate, "scans/s")
-    _line("btnav (b) / IR-SIM scans per second", btnav_scans / scan_rate, "x")
+    _line("IR-SIM scans per second in small_office", scan_rate, "scans/s")
+    _line("btnav / IR-SIM, scans per second in small_office", btnav_office_scans / scan_rate,
+          "x")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -279,13 +312,13 @@ def main(argv: list[str] | None = None) -> int:
         from pyinstrument import Profiler
 
         world = World.from_file(SMALL_OFFICE, seed=0)
-        with Profiler(interval=0.0002) as prof:
+        with Profiler(interval=0.0001) as prof:
             run_world(world, args.seconds)
         prof.print(show_all=False)
         return 0
     rtf = bench_world(args.seconds)
-    scans = bench_scans(args.scans)
-    bench_irsim(args.seconds, rtf, scans)
+    _, office_scans = bench_scans(args.scans)
+    bench_irsim(args.seconds, rtf, office_scans)
     return 0
 
 

@@ -211,3 +211,76 @@ def test_bad_params_are_config_errors(params):
 def test_misspelt_key_suggests_the_right_one():
     with pytest.raises(ConfigError, match="beams"):
         validate(Lidar.Params, {"frame": "laser", "bemas": 10})
+
+
+# -- with the real World ------------------------------------------------------------------
+
+ROOM_WORLD = """
+world: room
+bounds: [[0, 0], [10, 8]]
+walls: [[[0, 0], [10, 0], [10, 8], [0, 8], [0, 0]]]   # 0.10 thick: inner faces 0.05 in
+obstacles:
+  - circle: {center: [7.0, 4.0], radius: 0.5}
+  - box: {center: [5.0, 1.0], size: [0.4, 0.4], moves: {path: [[5.0, 7.0]], speed: 1.0, loop: true}}
+robot:
+  footprint: {radius: 0.2}
+  pose: [3.0, 4.0, 0.3]
+  sensors:
+    - lidar: {frame: laser, pose: [0.1, 0.0, 0.0], beams: 360, range: [0.05, 20.0], noise_std: NOISE}
+"""
+
+
+def room_world(noise: float = 0.0, seed: int = 0):
+    from btnav.sim.sensors import make_sensors
+    from btnav.sim.world import World
+    from btnav.sim.world_spec import WorldSpec
+
+    world = World(WorldSpec.from_text(ROOM_WORLD.replace("NOISE", str(noise))), seed=seed)
+    (lidar,) = make_sensors(world, seed=seed)
+    return world, lidar
+
+
+def test_real_world_scan_matches_the_rooms_inner_faces():
+    world, lidar = room_world()
+    assert isinstance(lidar, Lidar)
+    scan = lidar.measure(world.time)
+    sensor = world.robot_pose @ Pose2D(0.1, 0.0, 0.0)
+    angles = scan.angles + sensor.yaw
+    # Inner faces are 0.05 inside the wall lines: a 9.9 x 7.9 room from (0.05, 0.05).
+    want = analytic(sensor.x - 0.05, sensor.y - 0.05, angles, w=9.9, h=7.9,
+                    circle=(6.95, 3.95, 0.5))
+    # The moving box starts at (5, 1): beams that pass it are checked against it instead.
+    box = Geometry([np.array([[4.8, 0.8], [5.2, 0.8], [5.2, 1.2], [4.8, 1.2]])])
+    want = np.minimum(want, cast_from_pose(box, sensor.as_array(), scan.angles, 20.0))
+    np.testing.assert_allclose(scan.ranges, want, rtol=0, atol=F32)
+
+
+def test_real_world_moving_box_is_seen_where_it_is():
+    world, lidar = room_world()
+    sensor = world.robot_pose @ Pose2D(0.1, 0.0, 0.0)
+    # The beam whose world direction points at x = 5 on the box's route, below the robot.
+    target = np.arctan2(1.0 - sensor.y, 5.0 - sensor.x) - sensor.yaw
+    beam = int(np.argmin(np.abs(np.angle(np.exp(1j * (lidar.angles - target))))))
+    before = float(lidar.measure(world.time).ranges[beam])
+    world.step(3.0)  # the box has moved 3 m up its route, out of that beam
+    after = float(lidar.measure(world.time).ranges[beam])
+    assert after > before + 1.0
+    g = world.geometry()
+    x, y, yaw = lidar.sensor_pose()
+    assert after == pytest.approx(
+        float(cast_from_pose(g, (x, y, yaw), lidar.angles[beam : beam + 1], 20.0)[0]), abs=F32
+    )
+
+
+def test_real_world_same_seed_same_noisy_scans():
+    def run(seed: int) -> list[np.ndarray]:
+        world, lidar = room_world(noise=0.02, seed=seed)
+        out = []
+        for _ in range(40):  # past the first batch of pre-drawn noise
+            world.step(0.1)
+            out.append(lidar.measure(world.time).ranges)
+        return out
+
+    a, b, c = run(3), run(3), run(4)
+    assert all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
+    assert not np.array_equal(a[-1], c[-1])

@@ -198,20 +198,19 @@ class RayCaster:
             k = self._circles(circles - (ox, oy, 0.0), dirs_t, cap, prune_c)
             if k is not None:
                 best = k if best is None else np.fmax(best, k, out=best)
-        if best is None:
-            return np.full(n_rays, np.inf)
-        # A miss left k <= 0 or NaN: raising it to 1 / (2 cap) makes every miss read beyond
-        # the cap, and the division never meets a zero.
-        np.fmax(best, 0.5 / cap, out=best)
-        t = np.divide(1.0, best, out=best)
-        t[t > cap] = np.inf
+        t = np.full(n_rays, np.inf)
+        if best is not None:
+            # A miss left k <= 0 or NaN, a hit beyond the cap 0 < k < 1/cap: all read inf.
+            np.reciprocal(best, out=t, where=best >= 1.0 / cap)
         return t
 
-    def _blocks(self, rows: int, n_rays: int) -> tuple[int, NDArray[np.float64]]:
-        """Rays per block for `rows` rows of pairs, and a scratch buffer for one block."""
-        step = max(1, min(n_rays, self.chunk_pairs // rows))
-        if self._buf.size < rows * step:
-            self._buf = np.empty(rows * step)
+    def _blocks(
+        self, n_items: int, rows_per_item: int, n_rays: int
+    ) -> tuple[int, NDArray[np.float64]]:
+        """Rays per block (at most `chunk_pairs` ray x item pairs), and scratch for one block."""
+        step = max(1, min(n_rays, self.chunk_pairs // n_items))
+        if self._buf.size < rows_per_item * n_items * step:
+            self._buf = np.empty(rows_per_item * n_items * step)
         return step, self._buf
 
     def _segments(
@@ -236,14 +235,15 @@ class RayCaster:
         n_segs, n_rays = len(rel), dirs_t.shape[1]
         coef = rel @ _ROWS
         coef /= c[:, None]
-        rows = coef.reshape(3 * n_segs, 2)  # W, V and K rows of each segment in turn
+        rows = np.ascontiguousarray(coef.reshape(n_segs, 3, 2).swapaxes(0, 1))
+        rows = rows.reshape(3 * n_segs, 2)
         best = np.empty(n_rays)
-        step, buf = self._blocks(3 * n_segs, n_rays)
+        step, buf = self._blocks(n_segs, 3, n_rays)
         for start in range(0, n_rays, step):
             stop = min(n_rays, start + step)
-            wvk = np.matmul(rows, dirs_t[:, start:stop],
-                            out=buf[: 3 * n_segs * (stop - start)].reshape(3 * n_segs, -1))
-            w, v, k = wvk[0::3], wvk[1::3], wvk[2::3]
+            wvk = buf[: 3 * n_segs * (stop - start)].reshape(3, n_segs, stop - start)
+            np.matmul(rows, dirs_t[:, start:stop], out=wvk.reshape(3 * n_segs, -1))
+            w, v, k = wvk[0], wvk[1], wvk[2]
             np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
             np.minimum(k, w, out=k)  # so a hit keeps its 1/t and a miss goes <= 0
             k.max(axis=0, out=best[start:stop])
@@ -277,7 +277,7 @@ class RayCaster:
         rows = rel[:, :2] / root_c  # b' = rows . d
         inv_root_c = 1.0 / root_c
         best = np.empty(n_rays)
-        step, buf = self._blocks(2 * n_circ, n_rays)
+        step, buf = self._blocks(n_circ, 2, n_rays)
         with np.errstate(invalid="ignore"):
             for start in range(0, n_rays, step):
                 stop = min(n_rays, start + step)
