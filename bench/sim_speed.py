@@ -99,16 +99,20 @@ def bench_world(sim_seconds: float) -> float:
     wall, scans, spent = run_world(world, sim_seconds)
     rtf = sim_seconds / wall
     g = world.geometry()
-    print(f"(a) bare world: small_office ({len(g.segments)} segments, {len(g.circles)} circles),"
-          f" {sim_seconds:g} sim s, {scans} scans, collisions {world.collisions}")
+    print(
+        f"(a) bare world: small_office ({len(g.segments)} segments, {len(g.circles)} circles),"
+        f" {sim_seconds:g} sim s, {scans} scans, collisions {world.collisions}"
+    )
     _line("real-time factor (sim s per wall s)", rtf, "x", TARGET_RTF)
     per_sim_s = {k: 1e3 * v / sim_seconds for k, v in spent.items()}
     rest = 1e3 * wall / sim_seconds - sum(per_sim_s.values())
     parts = ", ".join(f"{k} {v:.2f}" for k, v in [*per_sim_s.items(), ("loop", rest)])
     print(f"  wall ms per sim s: {parts}; the 300x budget is {1e3 / TARGET_RTF:.2f}")
-    print(f"  one physics step {1e6 * spent['physics'] / (sim_seconds * PHYSICS_HZ):.1f} us,"
-          f" one scan {1e6 * spent['lidar'] / max(scans, 1):.1f} us,"
-          f" one odometry update {1e6 * spent['odometry'] / (sim_seconds * ODOM_HZ):.1f} us")
+    print(
+        f"  one physics step {1e6 * spent['physics'] / (sim_seconds * PHYSICS_HZ):.1f} us,"
+        f" one scan {1e6 * spent['lidar'] / max(scans, 1):.1f} us,"
+        f" one odometry update {1e6 * spent['odometry'] / (sim_seconds * ODOM_HZ):.1f} us"
+    )
     return rtf
 
 
@@ -130,8 +134,15 @@ def cluttered_doc(n_boxes: int = N_BOXES, seed: int = 1) -> dict:
         if math.hypot(cx - rx, cy - ry) < 1.5:
             continue
         size = [float(v) for v in rng.uniform(0.15, 0.5, 2)]
-        boxes.append({"box": {"center": [float(cx), float(cy)], "size": size,
-                              "yaw": float(rng.uniform(-np.pi, np.pi))}})
+        boxes.append(
+            {
+                "box": {
+                    "center": [float(cx), float(cy)],
+                    "size": size,
+                    "yaw": float(rng.uniform(-np.pi, np.pi)),
+                }
+            }
+        )
     doc["obstacles"] = list(doc["obstacles"]) + boxes
     doc["world"] = "small_office_cluttered"
     return doc
@@ -153,8 +164,10 @@ def bench_scans(n_scans: int) -> tuple[float, float]:
     g = world.geometry()
     rate = scans_per_second(world, n_scans)
     office = scans_per_second(World.from_file(SMALL_OFFICE, seed=0), n_scans)
-    print(f"(b) lidar, 360 beams, in a world of {len(g.segments)} segments and {len(g.circles)}"
-          f" circles (small_office and {N_BOXES} boxes)")
+    print(
+        f"(b) lidar, 360 beams, in a world of {len(g.segments)} segments and {len(g.circles)}"
+        f" circles (small_office and {N_BOXES} boxes)"
+    )
     _line("scans per second", rate, "scans/s", TARGET_SCANS)
     _line("scans per second in small_office itself", office, "scans/s")
     return rate, office
@@ -191,36 +204,48 @@ def irsim_world_yaml(world: World, path: Path) -> None:
         ox, oy = (float(v) for v in solid.origin)
         r = float(solid.circles[0, 2])
         route = [[float(x), float(y), 0.0] for x, y in solid.moves.path]
-        obstacles.append({
-            "kinematics": {"name": "omni"},
-            "shape": {"name": "circle", "radius": r},
-            "state": [ox, oy, 0.0],
-            "goal": [*route, [ox, oy, 0.0]] if solid.moves.loop else route,
-            "vel_max": [solid.moves.speed, solid.moves.speed],
-            "behavior": {"name": "dash", "loop": bool(solid.moves.loop)},
-        })
+        obstacles.append(
+            {
+                "kinematics": {"name": "omni"},
+                "shape": {"name": "circle", "radius": r},
+                "state": [ox, oy, 0.0],
+                "goal": [*route, [ox, oy, 0.0]] if solid.moves.loop else route,
+                "vel_max": [solid.moves.speed, solid.moves.speed],
+                "behavior": {"name": "dash", "loop": bool(solid.moves.loop)},
+            }
+        )
     robot = world.spec.robot
     lidar = next(e["lidar"] for e in robot.sensors if "lidar" in e)
     x, y, yaw = robot.pose
     doc = {
         "world": {
-            "height": float(y1 - y0), "width": float(x1 - x0), "offset": [float(x0), float(y0)],
-            "step_time": 1.0 / PHYSICS_HZ, "sample_time": 1.0 / PHYSICS_HZ,
+            "height": float(y1 - y0),
+            "width": float(x1 - x0),
+            "offset": [float(x0), float(y0)],
+            "step_time": 1.0 / PHYSICS_HZ,
+            "sample_time": 1.0 / PHYSICS_HZ,
             "collision_mode": "stop",
         },
-        "robot": [{
-            "kinematics": {"name": "diff"},
-            "shape": {"name": "circle", "radius": float(robot.footprint.radius or 0.22)},
-            "state": [float(x), float(y), float(yaw)],
-            "vel_max": [float(robot.limits.v_max), float(robot.limits.w_max)],
-            "sensors": [{
-                "name": "lidar2d",
-                "range_min": float(lidar["range"][0]), "range_max": float(lidar["range"][1]),
-                "angle_range": 2 * math.pi, "number": int(lidar["beams"]),
-                "noise": True, "std": float(lidar["noise_std"]),
-                "offset": [float(v) for v in lidar["pose"]],
-            }],
-        }],
+        "robot": [
+            {
+                "kinematics": {"name": "diff"},
+                "shape": {"name": "circle", "radius": float(robot.footprint.radius or 0.22)},
+                "state": [float(x), float(y), float(yaw)],
+                "vel_max": [float(robot.limits.v_max), float(robot.limits.w_max)],
+                "sensors": [
+                    {
+                        "name": "lidar2d",
+                        "range_min": float(lidar["range"][0]),
+                        "range_max": float(lidar["range"][1]),
+                        "angle_range": 2 * math.pi,
+                        "number": int(lidar["beams"]),
+                        "noise": True,
+                        "std": float(lidar["noise_std"]),
+                        "offset": [float(v) for v in lidar["pose"]],
+                    }
+                ],
+            }
+        ],
         "obstacle": obstacles,
     }
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
@@ -268,8 +293,10 @@ def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_office_scans: float)
         with contextlib.redirect_stdout(io.StringIO()):
             import irsim
     except ImportError:
-        print("(c) IR-SIM is not installed (pip install 'btnav[bench]' or pip install ir-sim):"
-              " skipped")
+        print(
+            "(c) IR-SIM is not installed (pip install 'btnav[bench]' or pip install ir-sim):"
+            " skipped"
+        )
         return
     import tempfile
 
@@ -292,13 +319,14 @@ def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_office_scans: float)
         scan_rate = n / (time.perf_counter() - t0)
         env.end(0)
     version = getattr(irsim, "__version__", "?")
-    print(f"(c) IR-SIM {version}: the same world ({len(world.solids)} solids) and robot, "
-          f"{sim_seconds:g} sim s, {scans} scans, headless")
+    print(
+        f"(c) IR-SIM {version}: the same world ({len(world.solids)} solids) and robot, "
+        f"{sim_seconds:g} sim s, {scans} scans, headless"
+    )
     _line("IR-SIM real-time factor", rtf, "x")
     _line("btnav / IR-SIM, real-time factor", btnav_rtf / rtf, "x")
     _line("IR-SIM scans per second in small_office", scan_rate, "scans/s")
-    _line("btnav / IR-SIM, scans per second in small_office", btnav_office_scans / scan_rate,
-          "x")
+    _line("btnav / IR-SIM, scans per second in small_office", btnav_office_scans / scan_rate, "x")
 
 
 def main(argv: list[str] | None = None) -> int:

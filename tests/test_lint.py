@@ -25,8 +25,13 @@ def test_ruff_check_passes():
 def test_every_module_imports():
     """A module that only a rarely used command imports must still import."""
     out = subprocess.run(
-        [sys.executable, "-c", "import btnav, pkgutil, importlib; "
-         "[importlib.import_module(m.name) for m in pkgutil.walk_packages(btnav.__path__, 'btnav.')]"],
-        capture_output=True, text=True,
+        [
+            sys.executable,
+            "-c",
+            "import btnav, pkgutil, importlib; "
+            "[importlib.import_module(m.name) for m in pkgutil.walk_packages(btnav.__path__, 'btnav.')]",
+        ],
+        capture_output=True,
+        text=True,
     )
     assert out.returncode == 0, out.stderr

@@ -75,7 +75,9 @@ def test_full_circle_beams_do_not_repeat_the_first_one():
 
 
 def test_partial_span_measures_both_ends():
-    lidar = make(StandIn(room(), Pose2D(3, 4)), beams=181, angle_min=-math.pi / 2, angle_max=math.pi / 2)
+    lidar = make(
+        StandIn(room(), Pose2D(3, 4)), beams=181, angle_min=-math.pi / 2, angle_max=math.pi / 2
+    )
     scan = lidar.measure(0.0)
     assert scan.angle_increment == pytest.approx(math.pi / 180)
     assert scan.angle_max == pytest.approx(math.pi / 2)
@@ -247,8 +249,9 @@ def test_real_world_scan_matches_the_rooms_inner_faces():
     sensor = world.robot_pose @ Pose2D(0.1, 0.0, 0.0)
     angles = scan.angles + sensor.yaw
     # Inner faces are 0.05 inside the wall lines: a 9.9 x 7.9 room from (0.05, 0.05).
-    want = analytic(sensor.x - 0.05, sensor.y - 0.05, angles, w=9.9, h=7.9,
-                    circle=(6.95, 3.95, 0.5))
+    want = analytic(
+        sensor.x - 0.05, sensor.y - 0.05, angles, w=9.9, h=7.9, circle=(6.95, 3.95, 0.5)
+    )
     # The moving box starts at (5, 1): beams that pass it are checked against it instead.
     box = Geometry([np.array([[4.8, 0.8], [5.2, 0.8], [5.2, 1.2], [4.8, 1.2]])])
     want = np.minimum(want, cast_from_pose(box, sensor.as_array(), scan.angles, 20.0))

@@ -190,7 +190,9 @@ def line_at(doc: Any, path: Sequence[Any]) -> int | None:
     line = getattr(doc, "line", None)
     node = doc
     for part in path:
-        if (isinstance(node, YamlMap) and part in node) or (isinstance(node, YamlSeq) and isinstance(part, int) and 0 <= part < len(node)):
+        if (isinstance(node, YamlMap) and part in node) or (
+            isinstance(node, YamlSeq) and isinstance(part, int) and 0 <= part < len(node)
+        ):
             line = node.line_of(part)
             node = node[part]
         else:

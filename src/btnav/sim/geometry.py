@@ -19,10 +19,16 @@ class Geometry:
 
     `polygons` are (K, 2) vertex arrays, not repeating the first vertex.
     `circles` is (M, 3): centre x, centre y, radius.
+
+    `one_sided` promises that every polygon is a solid wound counter-clockwise and
+    that no sensor sits inside one, so a ray caster may skip the edges that face away
+    from the sensor (half of them). The world's geometry keeps that promise; a
+    hand-made outline of a room seen from inside does not, and stays two-sided.
     """
 
     polygons: list[NDArray[np.float64]] = field(default_factory=list)
     circles: NDArray[np.float64] = field(default_factory=_no_circles)
+    one_sided: bool = False
     _segments: NDArray[np.float64] | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -39,7 +45,11 @@ class Geometry:
 
     def merged(self, other: Geometry) -> Geometry:
         """Static and moving parts together (the moving part changes every step)."""
-        g = Geometry(self.polygons + other.polygons, np.vstack([self.circles, other.circles]))
+        g = Geometry(
+            self.polygons + other.polygons,
+            np.vstack([self.circles, other.circles]),
+            self.one_sided and other.one_sided,
+        )
         if self._segments is not None or other._segments is not None:
             g._segments = np.vstack([self.segments, other.segments])
         return g

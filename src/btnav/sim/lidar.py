@@ -62,7 +62,9 @@ class Lidar(Sensor):
     class Params(Sensor.Params):
         beams: int = Field(360, ge=1, le=100_000, description="readings per scan")
         angle_min: float = Field(-math.pi, ge=-TWO_PI, le=TWO_PI, description="first beam (rad)")
-        angle_max: float = Field(math.pi, ge=-TWO_PI, le=TWO_PI, description="end of the span (rad)")
+        angle_max: float = Field(
+            math.pi, ge=-TWO_PI, le=TWO_PI, description="end of the span (rad)"
+        )
         range: tuple[float, float] = Field(
             (0.12, 8.0), description="[range_min, range_max] in metres"
         )

@@ -91,9 +91,7 @@ def _prune_segments(segs: NDArray[np.float64], max_range: float) -> NDArray[np.f
     return segs if keep.all() else segs[keep]
 
 
-def _on_line_hits(
-    segs: NDArray[np.float64], dirs: NDArray[np.float64]
-) -> NDArray[np.float64]:
+def _on_line_hits(segs: NDArray[np.float64], dirs: NDArray[np.float64]) -> NDArray[np.float64]:
     """Nearest t per ray for the (few) segments whose line passes through the origin.
 
     If the origin lies on such a segment every ray hits it at t = 0; otherwise only a
@@ -149,7 +147,9 @@ class RayCaster:
         With `prune` (default: when there are many) segments and circles wholly beyond
         `max_range` are dropped before the rays x segments block.
         """
-        return self._cast(origin, dirs, geometry.segments, geometry.circles, max_range, prune)
+        return self._cast(
+            origin, dirs, geometry.segments, geometry.circles, max_range, prune, geometry.one_sided
+        )
 
     def cast_segments(
         self,
@@ -183,6 +183,7 @@ class RayCaster:
         circles: NDArray[np.float64],
         max_range: float,
         prune: bool | None,
+        one_sided: bool = False,
     ) -> NDArray[np.float64]:
         ox, oy = float(origin[0]), float(origin[1])  # type: ignore[index]
         dirs_t = np.ascontiguousarray(dirs.T)
@@ -192,7 +193,7 @@ class RayCaster:
         best = None  # per ray, the largest 1/t seen: the nearest hit
         if len(segments) and n_rays:
             prune_s = len(segments) >= PRUNE_MIN_SEGMENTS if prune is None else prune
-            best = self._segments(segments - (ox, oy, ox, oy), dirs_t, cap, prune_s)
+            best = self._segments(segments - (ox, oy, ox, oy), dirs_t, cap, prune_s, one_sided)
         if len(circles) and n_rays:
             prune_c = len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune
             k = self._circles(circles - (ox, oy, 0.0), dirs_t, cap, prune_c)
@@ -214,8 +215,12 @@ class RayCaster:
         return step, self._buf
 
     def _segments(
-        self, rel: NDArray[np.float64], dirs_t: NDArray[np.float64], max_range: float,
+        self,
+        rel: NDArray[np.float64],
+        dirs_t: NDArray[np.float64],
+        max_range: float,
         prune: bool,
+        one_sided: bool = False,
     ) -> NDArray[np.float64] | None:
         """Per ray, the largest 1/t over the segments `rel` (relative to the origin)."""
         if prune:
@@ -224,6 +229,13 @@ class RayCaster:
             return None
         c = rel[:, 0] * rel[:, 3]
         c -= rel[:, 1] * rel[:, 2]  # a x e = p x q: zero when the line passes the origin
+        if one_sided:
+            # p x q > 0: the origin is on the inner side of a counter-clockwise solid's
+            # edge, which faces away; a ray meets a nearer front edge of that solid first.
+            front = c <= ON_LINE_AREA
+            rel, c = rel[front], c[front]
+            if len(rel) == 0:
+                return None
         extra = None
         if np.abs(c).min() <= ON_LINE_AREA:
             on_line = np.abs(c) <= ON_LINE_AREA
@@ -252,7 +264,10 @@ class RayCaster:
         return best
 
     def _circles(
-        self, rel: NDArray[np.float64], dirs_t: NDArray[np.float64], max_range: float,
+        self,
+        rel: NDArray[np.float64],
+        dirs_t: NDArray[np.float64],
+        max_range: float,
         prune: bool,
     ) -> NDArray[np.float64] | None:
         """Per ray, the largest 1/t over the circles `rel` (centres relative to the origin);

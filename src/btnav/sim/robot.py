@@ -63,6 +63,8 @@ class DiffDriveRobot:
         self.shapes = shapes
         self._cmd_v = 0.0
         self._cmd_w = 0.0
+        self._v = 0.0  # the velocity set in the last control step (robot frame)
+        self._w = 0.0
 
     # -- commands -----------------------------------------------------------------------
 
@@ -77,14 +79,21 @@ class DiffDriveRobot:
     def cmd_vel(self) -> Twist:
         return Twist(self._cmd_v, 0.0, self._cmd_w)
 
-    def control(self, dt: float) -> None:
-        """Before a physics step: set the body's velocity from the command, within the limits."""
+    def control(self, dt: float, *, free: bool = False) -> None:
+        """Before a physics step: set the body's velocity from the command, within the limits.
+
+        `free` says nothing touched the robot in the last step, so its velocity is the
+        one set then (no gravity, no damping): reading it back from pymunk is skipped.
+        """
         v_low, v_max, w_max, a_max, alpha_max = self._limits
         body = self.body
         a = body.angle
         c, s = math.cos(a), math.sin(a)
-        vx, vy = body.velocity
-        v_cur, w_cur = c * vx + s * vy, body.angular_velocity
+        if free:
+            v_cur, w_cur = self._v, self._w
+        else:
+            vx, vy = body.velocity
+            v_cur, w_cur = c * vx + s * vy, body.angular_velocity
         v_goal = min(max(self._cmd_v, v_low), v_max)
         w_goal = min(max(self._cmd_w, -w_max), w_max)
         dv_max, dw_max = a_max * dt, alpha_max * dt
@@ -94,7 +103,9 @@ class DiffDriveRobot:
         v = min(max(v, v_low), v_max)
         w = min(max(w, -w_max), w_max)
         body.velocity = (v * c, v * s)
-        body.angular_velocity = w
+        if w != w_cur or not free:
+            body.angular_velocity = w
+        self._v, self._w = v, w
 
     # -- state --------------------------------------------------------------------------
 

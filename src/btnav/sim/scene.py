@@ -162,6 +162,8 @@ def build_solids(spec: WorldSpec) -> list[Solid]:
         else:
             assert isinstance(shape, PolygonSpec)
             pts = np.asarray(shape.points, dtype=float)
+            if signed_area(pts) < 0:
+                pts = pts[::-1]  # solids wind counter-clockwise (see Geometry.one_sided)
             origin = polygon_centroid(pts)
             local = pts - origin
             solids.append(
@@ -197,4 +199,4 @@ def solids_geometry(solids: list[Solid], positions: list[Array] | None = None) -
             c = solid.circles.copy()
             c[:, :2] += pos
             circles.append(c)
-    return Geometry(polygons, np.vstack(circles) if circles else _no_circles())
+    return Geometry(polygons, np.vstack(circles) if circles else _no_circles(), one_sided=True)

@@ -32,14 +32,20 @@ START_OVERLAP_TOLERANCE = 1e-6
 
 
 class _Mover:
-    """A kinematic body carrying one moving obstacle along its route."""
+    """A kinematic body carrying one moving obstacle along its route.
 
-    __slots__ = ("body", "index", "route")
+    `position` is where the route puts it (exact, from sim time); the body is given the
+    velocity that takes it there in one step, so it pushes what it meets. Reading the
+    body back is never needed: a kinematic body integrates exactly the velocity it gets.
+    """
+
+    __slots__ = ("body", "index", "position", "route")
 
     def __init__(self, index: int, body: pymunk.Body, route: Route) -> None:
         self.index = index
         self.body = body
         self.route = route
+        self.position = route.position_at(0.0)
 
 
 class World:
@@ -81,6 +87,14 @@ class World:
         static = [s for s in self.solids if s.moves is None]
         self._static_geometry = solids_geometry(static)
         _ = self._static_geometry.segments  # computed once; merged() reuses it
+        # The moving solids' shapes relative to their reference point, placed by offset.
+        moving = solids_geometry(
+            [self.solids[m.index] for m in self._movers], [np.zeros(2)] * len(self._movers)
+        )
+        self._moving_segments = moving.segments.copy()
+        self._moving_circles = moving.circles.copy()
+        self._moving_polygons = moving.polygons
+        self._geometry: tuple[int, Geometry] | None = None
 
     @classmethod
     def from_file(cls, path: str | PathLike[str], *, seed: int = 0) -> World:
@@ -207,17 +221,12 @@ class World:
     def _substep(self, ns: int) -> None:
         h = ns / NS_PER_S
         t_next = (self._ns + ns) / NS_PER_S
-        self.robot.control(h)
-        targets = []
+        self.robot.control(h, free=not self._touching)
         for m in self._movers:
-            tx, ty = m.route.position_at(t_next)
-            px, py = m.body.position
+            (px, py), (tx, ty) = m.position, m.route.position_at(t_next)
             m.body.velocity = ((tx - px) / h, (ty - py) / h)
-            targets.append((tx, ty))
+            m.position = (tx, ty)
         self.space.step(h)
-        for m, target in zip(self._movers, targets, strict=True):
-            # Snap to the exact route position: no drift from summed velocities.
-            m.body.position = target
         self._ns += ns
 
     # -- robot --------------------------------------------------------------------------
@@ -242,9 +251,28 @@ class World:
         """Everything solid except the robot, now (moving obstacles where they are)."""
         if not self._movers:
             return self._static_geometry
-        solids = [self.solids[m.index] for m in self._movers]
-        positions = [np.array(m.body.position, dtype=float) for m in self._movers]
-        return self._static_geometry.merged(solids_geometry(solids, positions))
+        if self._geometry is not None and self._geometry[0] == self._ns:
+            return self._geometry[1]
+        # One offset per moving solid, repeated over its segments, circles and outlines.
+        seg_off, circ_off, polygons = [], [], []
+        for m in self._movers:
+            solid = self.solids[m.index]
+            x, y = m.position
+            n_seg = sum(len(o) for o in solid.outlines)
+            seg_off += [(x, y, x, y)] * n_seg
+            circ_off += [(x, y, 0.0)] * len(solid.circles)
+            polygons += [o + np.array((x, y)) for o in solid.outlines]
+        static = self._static_geometry
+        geometry = Geometry(
+            static.polygons + polygons,
+            np.vstack([static.circles, self._moving_circles + np.array(circ_off).reshape(-1, 3)]),
+            one_sided=True,
+        )
+        geometry._segments = np.vstack(
+            [static.segments, self._moving_segments + np.array(seg_off).reshape(-1, 4)]
+        )
+        self._geometry = (self._ns, geometry)
+        return geometry
 
     def sensor_specs(self) -> list[tuple[str, Any, int | None]]:
         """The robot's sensor entries as written: (plugin name, params document, line)."""

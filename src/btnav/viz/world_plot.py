@@ -57,8 +57,9 @@ def _routes(world: World) -> list[tuple[np.ndarray, bool]]:
     out = []
     for solid in world.solids:
         if solid.moves is not None:
-            pts = np.vstack([np.asarray(solid.origin, float)[None, :],
-                             np.asarray(solid.moves.path, float)])
+            pts = np.vstack(
+                [np.asarray(solid.origin, float)[None, :], np.asarray(solid.moves.path, float)]
+            )
             out.append((pts, bool(solid.moves.loop)))
     return out
 
@@ -91,8 +92,17 @@ def draw_world(
         ax = fig.add_subplot(1, 1, 1)
 
     (x0, y0), (x1, y1) = world.bounds
-    ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="#f7f7f2",
-                           edgecolor="#bbbbbb", linewidth=0.8, zorder=0))
+    ax.add_patch(
+        Rectangle(
+            (x0, y0),
+            x1 - x0,
+            y1 - y0,
+            facecolor="#f7f7f2",
+            edgecolor="#bbbbbb",
+            linewidth=0.8,
+            zorder=0,
+        )
+    )
 
     from ..sim.scene import solids_geometry
 
@@ -109,15 +119,31 @@ def draw_world(
         patches = [Polygon(p, closed=True) for p in polys]
         patches += [Circle((cx, cy), r) for cx, cy, r in circles]
         if patches:
-            ax.add_collection(PatchCollection(patches, facecolor=color, edgecolor=color,
-                                              linewidth=0.5, zorder=2, label=label))
+            ax.add_collection(
+                PatchCollection(
+                    patches, facecolor=color, edgecolor=color, linewidth=0.5, zorder=2, label=label
+                )
+            )
 
     for pts, loop in _routes(world):
-        ax.plot(pts[:, 0], pts[:, 1], linestyle="--", color=MOVING_COLOR, linewidth=1.0,
-                zorder=1, label="route (back and forth)" if loop else "route")
+        ax.plot(
+            pts[:, 0],
+            pts[:, 1],
+            linestyle="--",
+            color=MOVING_COLOR,
+            linewidth=1.0,
+            zorder=1,
+            label="route (back and forth)" if loop else "route",
+        )
         # Where the route ends: a dot when the obstacle turns back, a cross where it stops.
-        ax.plot(pts[-1, 0], pts[-1, 1], marker="o" if loop else "x", color=MOVING_COLOR,
-                markersize=4, zorder=1)
+        ax.plot(
+            pts[-1, 0],
+            pts[-1, 1],
+            marker="o" if loop else "x",
+            color=MOVING_COLOR,
+            markersize=4,
+            zorder=1,
+        )
 
     pose = world.robot_pose
     if scan is not None:
@@ -126,10 +152,17 @@ def draw_world(
         if len(pts):
             origin = np.broadcast_to([sp.x, sp.y], pts.shape)
             beams = np.stack([origin, pts], axis=1)
-            ax.add_collection(LineCollection(beams, colors=SCAN_COLOR, linewidths=0.25,
-                                             alpha=0.15, zorder=3))
-            ax.scatter(pts[:, 0], pts[:, 1], s=3, color=SCAN_COLOR, zorder=4,
-                       label=f"scan ({len(pts)} returns)")
+            ax.add_collection(
+                LineCollection(beams, colors=SCAN_COLOR, linewidths=0.25, alpha=0.15, zorder=3)
+            )
+            ax.scatter(
+                pts[:, 0],
+                pts[:, 1],
+                s=3,
+                color=SCAN_COLOR,
+                zorder=4,
+                label=f"scan ({len(pts)} returns)",
+            )
 
     fp = world.spec.robot.footprint
     if fp.radius is not None:
@@ -139,12 +172,22 @@ def draw_world(
         outline = pose.transform_points(np.asarray(fp.polygon, float))
         body = Polygon(outline, closed=True)
         size = float(np.hypot(*np.asarray(fp.polygon, float).T).max())
-    body.set(facecolor=ROBOT_COLOR, edgecolor="#0b2f6b", alpha=0.55, linewidth=1.0, zorder=5,
-             label="robot")
+    body.set(
+        facecolor=ROBOT_COLOR,
+        edgecolor="#0b2f6b",
+        alpha=0.55,
+        linewidth=1.0,
+        zorder=5,
+        label="robot",
+    )
     ax.add_patch(body)
-    ax.plot([pose.x, pose.x + 1.3 * size * math.cos(pose.yaw)],
-            [pose.y, pose.y + 1.3 * size * math.sin(pose.yaw)],
-            color="#0b2f6b", linewidth=1.5, zorder=6)
+    ax.plot(
+        [pose.x, pose.x + 1.3 * size * math.cos(pose.yaw)],
+        [pose.y, pose.y + 1.3 * size * math.sin(pose.yaw)],
+        color="#0b2f6b",
+        linewidth=1.5,
+        zorder=6,
+    )
 
     margin = 0.03 * max(x1 - x0, y1 - y0)
     ax.set_xlim(x0 - margin, x1 + margin)
@@ -157,8 +200,7 @@ def draw_world(
     handles, labels = ax.get_legend_handles_labels()
     unique = dict(zip(labels, handles, strict=True))
     if unique:
-        ax.legend(unique.values(), unique.keys(), loc="upper right", fontsize=7,
-                  framealpha=0.85)
+        ax.legend(unique.values(), unique.keys(), loc="upper right", fontsize=7, framealpha=0.85)
     return ax
 
 
