@@ -35,6 +35,11 @@ def _f32_at_most(x: float) -> np.float32:
     return f if float(f) <= x else np.nextafter(f, np.float32(-np.inf))
 
 
+#: No intensities (the simulated lidar does not measure them); shared, never written.
+_NO_INTENSITIES = np.zeros(0, np.float32)
+_NO_INTENSITIES.flags.writeable = False
+
+
 @register("sensor", "lidar")
 class Lidar(Sensor):
     """A planar lidar publishing `LaserScan`s in its own frame.
@@ -146,15 +151,16 @@ class Lidar(Sensor):
     def measure(self, now: float) -> LaserScan:
         """One scan of the world as it is now, stamped `now`, in the sensor's frame."""
         t = self.true_ranges()  # inf: nothing within range_max
+        ranges = np.empty(len(t), np.float32)
         if self.noise_std > 0:
-            ranges = (t + self._next_noise()).astype(np.float32)
+            np.add(t, self._next_noise(), out=ranges, casting="same_kind")
         else:
-            ranges = t.astype(np.float32)
-        # Clip in float32 to bounds that are themselves inside [range_min, range_max].
-        np.maximum(ranges, self._lo32, out=ranges)
-        np.minimum(ranges, self._hi32, out=ranges)
-        ranges[t == np.inf] = np.inf
-        ranges[t < self.range_min] = -np.inf
+            ranges[:] = t
+        # Clip in float32 to bounds that are themselves inside [range_min, range_max];
+        # a beam with no return stays +inf, one closer than range_min becomes -inf.
+        np.clip(ranges, self._lo32, self._hi32, out=ranges, where=t < np.inf)
+        if t.min() < self.range_min:
+            ranges[t < self.range_min] = -np.inf
         return LaserScan(
             stamp=now,
             frame_id=self.frame_id,
@@ -166,4 +172,5 @@ class Lidar(Sensor):
             ranges=ranges,
             scan_time=1.0 / self.rate,
             time_increment=0.0,
+            intensities=_NO_INTENSITIES,
         )

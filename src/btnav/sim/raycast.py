@@ -237,7 +237,7 @@ class RayCaster:
             if len(rel) == 0:
                 return None
         extra = None
-        if np.abs(c).min() <= ON_LINE_AREA:
+        if c.max() >= -ON_LINE_AREA if one_sided else np.abs(c).min() <= ON_LINE_AREA:
             on_line = np.abs(c) <= ON_LINE_AREA
             with np.errstate(divide="ignore"):
                 extra = 1.0 / _on_line_hits(rel[on_line], dirs_t.T)

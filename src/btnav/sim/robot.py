@@ -19,6 +19,11 @@ from ..core.messages import Twist
 from .scene import convex_parts
 from .world_spec import RobotSpec, signed_area
 
+#: pymunk's property setters, called directly: `body.velocity = v` goes through a
+#: Python-level `__setattr__` hook first, which costs more than the setting itself.
+set_velocity = pymunk.Body.velocity.fset
+set_angular_velocity = pymunk.Body.angular_velocity.fset
+
 #: pymunk collision type of every robot shape (the world counts contacts against it).
 ROBOT_COLLISION_TYPE = 1
 #: An arbitrary mass: the base is velocity-controlled, so mass only matters when a
@@ -102,9 +107,9 @@ class DiffDriveRobot:
         # Never exceed the limits, even if a push left the body faster than allowed.
         v = min(max(v, v_low), v_max)
         w = min(max(w, -w_max), w_max)
-        body.velocity = (v * c, v * s)
+        set_velocity(body, (v * c, v * s))
         if w != w_cur or not free:
-            body.angular_velocity = w
+            set_angular_velocity(body, w)
         self._v, self._w = v, w
 
     # -- state --------------------------------------------------------------------------

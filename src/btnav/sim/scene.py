@@ -121,11 +121,15 @@ def convex_parts(points: Array) -> list[Array]:
     return _ear_clip(pts)
 
 
+#: Wall points closer than this (m) are one point: a shorter edge has no direction.
+MIN_EDGE = 1e-9
+
+
 def wall_pieces(wall: WallSpec) -> tuple[list[Array], Array]:
     """A wall as one rectangle per edge (butt ends) plus a circle at every joint (round joins)."""
     pts = np.asarray(wall.points, dtype=float)
     keep = np.ones(len(pts), dtype=bool)
-    keep[1:] = np.any(np.diff(pts, axis=0) != 0, axis=1)  # drop repeated points
+    keep[1:] = np.hypot(*np.diff(pts, axis=0).T) > MIN_EDGE  # drop repeated points
     pts = pts[keep]
     half = wall.thickness / 2.0
     rects: list[Array] = []

@@ -20,7 +20,7 @@ from ..core.geometry import Pose2D
 from ..core.messages import Twist
 from .geometry import Geometry
 from .moving import Route
-from .robot import ROBOT_COLLISION_TYPE, DiffDriveRobot
+from .robot import ROBOT_COLLISION_TYPE, DiffDriveRobot, set_velocity
 from .scene import Solid, build_solids, solids_geometry
 from .world_spec import WorldSpec, load_world_spec
 
@@ -224,7 +224,7 @@ class World:
         self.robot.control(h, free=not self._touching)
         for m in self._movers:
             (px, py), (tx, ty) = m.position, m.route.position_at(t_next)
-            m.body.velocity = ((tx - px) / h, (ty - py) / h)
+            set_velocity(m.body, ((tx - px) / h, (ty - py) / h))
             m.position = (tx, ty)
         self.space.step(h)
         self._ns += ns
@@ -254,23 +254,24 @@ class World:
         if self._geometry is not None and self._geometry[0] == self._ns:
             return self._geometry[1]
         # One offset per moving solid, repeated over its segments, circles and outlines.
-        seg_off, circ_off, polygons = [], [], []
+        seg_off: list[tuple[float, ...]] = []
+        circ_off: list[tuple[float, ...]] = []
+        polygons: list[np.ndarray] = []
         for m in self._movers:
             solid = self.solids[m.index]
             x, y = m.position
-            n_seg = sum(len(o) for o in solid.outlines)
-            seg_off += [(x, y, x, y)] * n_seg
+            if solid.outlines:
+                seg_off += [(x, y, x, y)] * sum(len(o) for o in solid.outlines)
+                polygons += [o + np.array((x, y)) for o in solid.outlines]
             circ_off += [(x, y, 0.0)] * len(solid.circles)
-            polygons += [o + np.array((x, y)) for o in solid.outlines]
         static = self._static_geometry
-        geometry = Geometry(
-            static.polygons + polygons,
-            np.vstack([static.circles, self._moving_circles + np.array(circ_off).reshape(-1, 3)]),
-            one_sided=True,
-        )
-        geometry._segments = np.vstack(
-            [static.segments, self._moving_segments + np.array(seg_off).reshape(-1, 4)]
-        )
+        circles = static.circles
+        if circ_off:
+            circles = np.concatenate([circles, self._moving_circles + circ_off])
+        geometry = Geometry(static.polygons + polygons, circles, one_sided=True)
+        geometry._segments = static.segments
+        if seg_off:
+            geometry._segments = np.concatenate([static.segments, self._moving_segments + seg_off])
         self._geometry = (self._ns, geometry)
         return geometry
 
