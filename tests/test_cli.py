@@ -52,7 +52,7 @@ def test_usage_errors_exit_2():
 
 
 def test_map_from_world_writes_a_map_server_map(tmp_path):
-    out = tmp_path / "office.yaml"
+    out = tmp_path / "new_folder" / "office.yaml"
     assert main(["map", "from-world", str(OFFICE), "-o", str(out), "--resolution", "0.1"]) == 0
     grid = load_map(out)
     assert grid.resolution == pytest.approx(0.1)
@@ -61,7 +61,7 @@ def test_map_from_world_writes_a_map_server_map(tmp_path):
 
 def test_world_show_draws_a_png(tmp_path):
     pytest.importorskip("matplotlib")
-    out = tmp_path / "office.png"
+    out = tmp_path / "new_folder" / "office.png"
     assert main(["world", "show", str(OFFICE), "-o", str(out)]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 10_000
 

@@ -235,6 +235,10 @@ def save_map(
         )
     if fmt == "pgm":
         alpha = None
+    try:  # `-o out/office.yaml` into a folder that does not exist yet: make it
+        yaml_file.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise MapError(f"cannot create the folder: {exc.strerror}", file=yaml_file) from None
     write_image(image_file, grey, alpha, image_format=fmt)
     text = map_yaml_text(
         image_file.name,

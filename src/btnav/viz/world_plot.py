@@ -237,6 +237,10 @@ def show_world_main(world_path: str | PathLike[str], out_png: str | PathLike[str
     fig.tight_layout()
     out = Path(out_png)
     try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise BtnavError(f"cannot create the folder: {exc.strerror or exc}", file=out) from None
+    try:
         fig.savefig(out, dpi=120)
     except OSError as exc:
         raise BtnavError(f"cannot write the picture: {exc.strerror or exc}", file=out) from None
