@@ -57,8 +57,14 @@ def test_cli_world_show_bad_world_is_a_user_error(tmp_path, capsys):
 
 
 def test_unwritable_output_is_a_btnav_error(tmp_path):
-    with pytest.raises(BtnavError, match="cannot write"):
-        show_world_main(SMALL_OFFICE, tmp_path / "no" / "such" / "dir" / "w.png")
+    (tmp_path / "a_file").write_text("not a folder")
+    with pytest.raises(BtnavError, match="cannot create the folder"):
+        show_world_main(SMALL_OFFICE, tmp_path / "a_file" / "w.png")
+
+
+def test_output_folder_is_created(tmp_path):
+    show_world_main(SMALL_OFFICE, tmp_path / "new" / "dir" / "w.png")
+    assert (tmp_path / "new" / "dir" / "w.png").is_file()
 
 
 def test_draw_world_on_given_axes_with_polygon_robot_and_stopping_obstacle(tmp_path):
