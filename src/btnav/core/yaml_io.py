@@ -16,6 +16,7 @@ from typing import Any
 import yaml
 
 from .errors import YamlError
+from .files import read_bytes
 
 # The pure-Python parser on purpose: libyaml's C composer recurses without a limit and
 # crashes the process on deeply nested input, while Python's raises RecursionError.
@@ -173,16 +174,7 @@ def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -
 
 def load_yaml(path: str | PathLike[str]) -> Any:
     """Read and parse a YAML file; a missing or unreadable file is a `YamlError` too."""
-    p = Path(path)
-    try:
-        data = p.read_bytes()
-    except FileNotFoundError:
-        raise YamlError("file not found", file=p) from None
-    except IsADirectoryError:
-        raise YamlError("is a directory, not a file", file=p) from None
-    except OSError as exc:
-        raise YamlError(f"cannot read: {exc.strerror}", file=p) from None
-    return load_yaml_text(data, p)
+    return load_yaml_text(read_bytes(path, error_cls=YamlError), Path(path))
 
 
 def line_at(doc: Any, path: Sequence[Any]) -> int | None:

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..core.errors import MapError
+from ..core.files import read_bytes
 from .pgm import decode_pgm, encode_pgm, is_pgm
 
 #: The formats map_saver recommends; btnav writes these and nothing else.
@@ -97,14 +98,7 @@ def _decode_with_pillow(buf: bytes, path: Path) -> MapImage:
 def read_image(path: str | PathLike[str]) -> MapImage:
     """Read a map image (PGM natively, anything else via Pillow) as grey + alpha."""
     p = Path(path)
-    try:
-        buf = p.read_bytes()
-    except FileNotFoundError:
-        raise MapError("image file not found", file=p) from None
-    except IsADirectoryError:
-        raise MapError("is a directory, not an image file", file=p) from None
-    except OSError as exc:
-        raise MapError(f"cannot read: {exc.strerror}", file=p) from None
+    buf = read_bytes(p, error_cls=MapError, what="image file")
     if is_pgm(buf):
         pgm = decode_pgm(buf, p)
         return MapImage(to_8bit(pgm.data, pgm.maxval))

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..core.errors import MapError
+from ..core.files import read_bytes
 
 #: Netpbm's whitespace: blanks, TABs, CRs, LFs (and VT, FF, which isspace() accepts).
 _WHITESPACE = frozenset(b" \t\n\r\v\f")
@@ -161,16 +162,7 @@ def _plain_samples(raster: bytes, count: int, fname: str | None) -> NDArray[np.u
 
 def read_pgm(path: str | PathLike[str]) -> PgmImage:
     """Read a PGM file; a missing or unreadable file is a `MapError` naming it."""
-    p = Path(path)
-    try:
-        buf = p.read_bytes()
-    except FileNotFoundError:
-        raise MapError("image file not found", file=p) from None
-    except IsADirectoryError:
-        raise MapError("is a directory, not an image file", file=p) from None
-    except OSError as exc:
-        raise MapError(f"cannot read: {exc.strerror}", file=p) from None
-    return decode_pgm(buf, p)
+    return decode_pgm(read_bytes(path, error_cls=MapError, what="image file"), Path(path))
 
 
 def encode_pgm(
