@@ -47,9 +47,17 @@ class Pose2D:
     yaw: float = 0.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "x", float(self.x))
-        object.__setattr__(self, "y", float(self.y))
-        object.__setattr__(self, "yaw", normalize_angle(float(self.yaw)))
+        x, y, yaw = self.x, self.y, self.yaw
+        # Plain floats with the yaw in range (the common case, on hot paths) stay as given.
+        if not (
+            type(x) is float
+            and type(y) is float
+            and type(yaw) is float
+            and -math.pi < yaw <= math.pi
+        ):
+            object.__setattr__(self, "x", float(x))
+            object.__setattr__(self, "y", float(y))
+            object.__setattr__(self, "yaw", normalize_angle(float(yaw)))
 
     @classmethod
     def from_array(cls, a: ArrayLike) -> Pose2D:

@@ -68,6 +68,7 @@ _ROWS = np.hstack([_BIG * _W_COLS, _BIG * (_K_COLS - _W_COLS), _K_COLS])
 _CIRCLE_C = np.array([1.0, 1.0, -1.0])
 _NO_SEGMENTS = np.zeros((0, 4))
 _NO_CIRCLES = np.zeros((0, 3))
+_NO_ROWS = np.zeros((0, 2))
 #: Where rays end when `max_range` is infinite (metres): no world is this big.
 _FAR = 1e100
 
@@ -188,125 +189,137 @@ class RayCaster:
         ox, oy = float(origin[0]), float(origin[1])  # type: ignore[index]
         dirs_t = np.ascontiguousarray(dirs.T)
         n_rays = dirs_t.shape[1]
+        t = np.full(n_rays, np.inf)
+        if n_rays == 0:
+            return t
         # Hits beyond `cap` read inf; an infinite max_range still needs a finite cap here.
         cap = max_range if math.isfinite(max_range) else _FAR
-        best = None  # per ray, the largest 1/t seen: the nearest hit
-        if len(segments) and n_rays:
+        extras: list[NDArray[np.float64]] = []  # per-ray 1/t from the exact side paths
+        seg_rows, circ_rows, inv_root_c = _NO_ROWS, _NO_ROWS, _NO_ROWS
+        if len(segments):
             prune_s = len(segments) >= PRUNE_MIN_SEGMENTS if prune is None else prune
-            best = self._segments(segments - (ox, oy, ox, oy), dirs_t, cap, prune_s, one_sided)
-        if len(circles) and n_rays:
+            seg_rows = _segment_rows(
+                segments - (ox, oy, ox, oy), dirs_t, cap, prune_s, one_sided, extras
+            )
+        if len(circles):
             prune_c = len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune
-            k = self._circles(circles - (ox, oy, 0.0), dirs_t, cap, prune_c)
-            if k is not None:
-                best = k if best is None else np.fmax(best, k, out=best)
-        t = np.full(n_rays, np.inf)
+            circ_rows, inv_root_c = _circle_rows(
+                circles - (ox, oy, 0.0), dirs_t, cap, prune_c, extras
+            )
+        best = None
+        if len(seg_rows) or len(circ_rows):
+            best = self._nearest(seg_rows, circ_rows, inv_root_c, dirs_t)
+        for extra in extras:
+            best = extra if best is None else np.fmax(best, extra, out=best)
         if best is not None:
             # A miss left k <= 0 or NaN, a hit beyond the cap 0 < k < 1/cap: all read inf.
             np.reciprocal(best, out=t, where=best >= 1.0 / cap)
         return t
 
-    def _blocks(
-        self, n_items: int, rows_per_item: int, n_rays: int
-    ) -> tuple[int, NDArray[np.float64]]:
-        """Rays per block (at most `chunk_pairs` ray x item pairs), and scratch for one block."""
-        step = max(1, min(n_rays, self.chunk_pairs // n_items))
-        if self._buf.size < rows_per_item * n_items * step:
-            self._buf = np.empty(rows_per_item * n_items * step)
-        return step, self._buf
-
-    def _segments(
+    def _nearest(
         self,
-        rel: NDArray[np.float64],
+        seg_rows: NDArray[np.float64],
+        circ_rows: NDArray[np.float64],
+        inv_root_c: NDArray[np.float64],
         dirs_t: NDArray[np.float64],
-        max_range: float,
-        prune: bool,
-        one_sided: bool = False,
-    ) -> NDArray[np.float64] | None:
-        """Per ray, the largest 1/t over the segments `rel` (relative to the origin)."""
-        if prune:
-            rel = _prune_segments(rel, max_range)
-        if len(rel) == 0:
-            return None
-        c = rel[:, 0] * rel[:, 3]
-        c -= rel[:, 1] * rel[:, 2]  # a x e = p x q: zero when the line passes the origin
-        if one_sided:
-            # p x q > 0: the origin is on the inner side of a counter-clockwise solid's
-            # edge, which faces away; a ray meets a nearer front edge of that solid first.
-            front = c <= ON_LINE_AREA
-            rel, c = rel[front], c[front]
-            if len(rel) == 0:
-                return None
-        extra = None
-        if c.max() >= -ON_LINE_AREA if one_sided else np.abs(c).min() <= ON_LINE_AREA:
-            on_line = np.abs(c) <= ON_LINE_AREA
-            with np.errstate(divide="ignore"):
-                extra = 1.0 / _on_line_hits(rel[on_line], dirs_t.T)
-            rel, c = rel[~on_line], c[~on_line]
-            if len(rel) == 0:
-                return extra
-        n_segs, n_rays = len(rel), dirs_t.shape[1]
-        coef = rel @ _ROWS
-        coef /= c[:, None]
-        rows = np.ascontiguousarray(coef.reshape(n_segs, 3, 2).swapaxes(0, 1))
-        rows = rows.reshape(3 * n_segs, 2)
-        best = np.empty(n_rays)
-        step, buf = self._blocks(n_segs, 3, n_rays)
-        for start in range(0, n_rays, step):
-            stop = min(n_rays, start + step)
-            wvk = buf[: 3 * n_segs * (stop - start)].reshape(3, n_segs, stop - start)
-            np.matmul(rows, dirs_t[:, start:stop], out=wvk.reshape(3 * n_segs, -1))
-            w, v, k = wvk[0], wvk[1], wvk[2]
-            np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
-            np.minimum(k, w, out=k)  # so a hit keeps its 1/t and a miss goes <= 0
-            k.max(axis=0, out=best[start:stop])
-        if extra is not None:
-            np.fmax(best, extra, out=best)
-        return best
+    ) -> NDArray[np.float64]:
+        """Per ray, the largest 1/t over all segments and circles: one product, one reduction.
 
-    def _circles(
-        self,
-        rel: NDArray[np.float64],
-        dirs_t: NDArray[np.float64],
-        max_range: float,
-        prune: bool,
-    ) -> NDArray[np.float64] | None:
-        """Per ray, the largest 1/t over the circles `rel` (centres relative to the origin);
-        NaN for a ray that misses them all."""
-        c = (rel * rel) @ _CIRCLE_C  # |m|^2 - r^2: <= 0 with the origin inside
-        if prune:
-            keep = c <= max_range * (max_range + 2.0 * rel[:, 2])  # |m| - r <= max_range
-            rel, c = rel[keep], c[keep]
-        if len(c) == 0:
-            return None
-        extra = None
-        if c.min() <= 0:
-            inside = c <= 0
-            # The sensor inside a pillar: t = b + sqrt(b^2 - c), where the ray gets out.
-            b = rel[inside, :2] @ dirs_t
-            extra = (1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0)
-            rel, c = rel[~inside], c[~inside]
-            if len(c) == 0:
-                return extra
-        n_circ, n_rays = len(c), dirs_t.shape[1]
-        root_c = np.sqrt(c)[:, None]
-        rows = rel[:, :2] / root_c  # b' = rows . d
-        inv_root_c = 1.0 / root_c
+        Block rows: W, V, K of the S segments, then b' of the C circles. K and the
+        circles' 1/t end up side by side, so a single `fmax` over them finds the nearest.
+        """
+        n_s, n_c = len(seg_rows) // 3, len(circ_rows)
+        rows = (
+            np.concatenate([seg_rows, circ_rows]) if n_s and n_c else seg_rows if n_s else circ_rows
+        )
+        n_rows, n_rays = len(rows), dirs_t.shape[1]
+        per_ray = n_rows + n_c  # the circles need one scratch row each
+        step = max(1, min(n_rays, self.chunk_pairs // (n_s + n_c)))
+        if self._buf.size < per_ray * step:
+            self._buf = np.empty(per_ray * step)
         best = np.empty(n_rays)
-        step, buf = self._blocks(n_circ, 2, n_rays)
         with np.errstate(invalid="ignore"):
             for start in range(0, n_rays, step):
                 stop = min(n_rays, start + step)
-                n = n_circ * (stop - start)
-                b = np.matmul(rows, dirs_t[:, start:stop], out=buf[:n].reshape(n_circ, -1))
-                k = np.multiply(b, b, out=buf[n : 2 * n].reshape(n_circ, -1))
-                k -= 1.0
-                np.sqrt(k, out=k)  # NaN where the ray's line misses the circle
-                k += b
-                k *= inv_root_c  # 1/t of the near crossing; < 0 for a circle behind
-                np.fmax.reduce(k, axis=0, out=best[start:stop])
-        if extra is not None:
-            np.fmax(best, extra, out=best)
+                n = stop - start
+                block = self._buf[: n_rows * n].reshape(n_rows, n)
+                np.matmul(rows, dirs_t[:, start:stop], out=block)
+                if n_s:
+                    w, v, k = block[:n_s], block[n_s : 2 * n_s], block[2 * n_s : 3 * n_s]
+                    np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
+                    np.minimum(k, w, out=k)  # so a hit keeps its 1/t and a miss goes <= 0
+                if n_c:
+                    b = block[3 * n_s :]
+                    root = self._buf[n_rows * n : per_ray * n].reshape(n_c, n)
+                    np.multiply(b, b, out=root)
+                    root -= 1.0
+                    np.sqrt(root, out=root)  # NaN where the ray's line misses the circle
+                    b += root
+                    b *= inv_root_c  # 1/t of the near crossing; < 0 for a circle behind
+                np.fmax.reduce(block[2 * n_s :], axis=0, out=best[start:stop])
         return best
+
+
+def _segment_rows(
+    rel: NDArray[np.float64],
+    dirs_t: NDArray[np.float64],
+    max_range: float,
+    prune: bool,
+    one_sided: bool,
+    extras: list[NDArray[np.float64]],
+) -> NDArray[np.float64]:
+    """The (3S, 2) W, V and K rows (in blocks of S) of the segments `rel` (relative to the
+    origin); segments whose line passes the origin take the exact side path (`extras`)."""
+    if prune:
+        rel = _prune_segments(rel, max_range)
+    if len(rel) == 0:
+        return _NO_ROWS
+    c = rel[:, 0] * rel[:, 3]
+    c -= rel[:, 1] * rel[:, 2]  # a x e = p x q: zero when the line passes the origin
+    if one_sided:
+        # p x q > 0: the origin is on the inner side of a counter-clockwise solid's
+        # edge, which faces away; a ray meets a nearer front edge of that solid first.
+        front = c <= ON_LINE_AREA
+        rel, c = rel[front], c[front]
+        if len(rel) == 0:
+            return _NO_ROWS
+    if c.max() >= -ON_LINE_AREA if one_sided else np.abs(c).min() <= ON_LINE_AREA:
+        on_line = np.abs(c) <= ON_LINE_AREA
+        with np.errstate(divide="ignore"):
+            extras.append(1.0 / _on_line_hits(rel[on_line], dirs_t.T))
+        rel, c = rel[~on_line], c[~on_line]
+        if len(rel) == 0:
+            return _NO_ROWS
+    coef = rel @ _ROWS
+    coef /= c[:, None]
+    return np.ascontiguousarray(coef.reshape(len(rel), 3, 2).swapaxes(0, 1)).reshape(-1, 2)
+
+
+def _circle_rows(
+    rel: NDArray[np.float64],
+    dirs_t: NDArray[np.float64],
+    max_range: float,
+    prune: bool,
+    extras: list[NDArray[np.float64]],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The (C, 2) rows m / sqrt(c) of the circles `rel` (centres relative to the origin)
+    and the (C, 1) factors 1 / sqrt(c); circles around the origin take the side path."""
+    c = (rel * rel) @ _CIRCLE_C  # |m|^2 - r^2: <= 0 with the origin inside
+    if prune:
+        keep = c <= max_range * (max_range + 2.0 * rel[:, 2])  # |m| - r <= max_range
+        rel, c = rel[keep], c[keep]
+    if len(c) == 0:
+        return _NO_ROWS, _NO_ROWS
+    if c.min() <= 0:
+        inside = c <= 0
+        # The sensor inside a pillar: t = b + sqrt(b^2 - c), where the ray gets out.
+        b = rel[inside, :2] @ dirs_t
+        extras.append((1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0))
+        rel, c = rel[~inside], c[~inside]
+        if len(c) == 0:
+            return _NO_ROWS, _NO_ROWS
+    root_c = np.sqrt(c)[:, None]
+    return rel[:, :2] / root_c, 1.0 / root_c
 
 
 def cast(

@@ -132,6 +132,11 @@ class DiffDriveRobot:
         return float(self.body.angle)
 
     @property
+    def last_control(self) -> Twist:
+        """The velocity the last control step gave the body (its true velocity when free)."""
+        return Twist(self._v, 0.0, self._w)
+
+    @property
     def twist(self) -> Twist:
         v, lateral, w = self._velocity()
         return Twist(v, lateral, w)

@@ -243,6 +243,8 @@ class World:
     @property
     def robot_twist(self) -> Twist:
         """Ground-truth velocity in the robot frame."""
+        if not self._touching:  # nothing pushed it: the velocity set in the last step
+            return self.robot.last_control
         return self.robot.twist
 
     # -- what sensors and maps see ------------------------------------------------------
