@@ -70,6 +70,7 @@ class DiffDriveRobot:
         self._cmd_w = 0.0
         self._v = 0.0  # the velocity set in the last control step (robot frame)
         self._w = 0.0
+        self._goal = (0.0, 0.0)  # the command within the speed limits
 
     # -- commands -----------------------------------------------------------------------
 
@@ -79,6 +80,8 @@ class DiffDriveRobot:
         if not (math.isfinite(v) and math.isfinite(w)):
             raise ValueError(f"cmd_vel must be finite, got v={v}, w={w}")
         self._cmd_v, self._cmd_w = v, w
+        v_low, v_max, w_max = self._limits[:3]
+        self._goal = (min(max(v, v_low), v_max), min(max(w, -w_max), w_max))
 
     @property
     def cmd_vel(self) -> Twist:
@@ -90,6 +93,14 @@ class DiffDriveRobot:
         `free` says nothing touched the robot in the last step, so its velocity is the
         one set then (no gravity, no damping): reading it back from pymunk is skipped.
         """
+        v_goal, w_goal = self._goal
+        if free and self._v == v_goal and self._w == w_goal:
+            if w_goal == 0.0:
+                return  # cruising straight: the body keeps the velocity it has
+            v, w = v_goal, w_goal  # cruising on an arc: turn the velocity with the body
+            a = self.body.angle
+            set_velocity(self.body, (v * math.cos(a), v * math.sin(a)))
+            return
         v_low, v_max, w_max, a_max, alpha_max = self._limits
         body = self.body
         a = body.angle
@@ -99,8 +110,6 @@ class DiffDriveRobot:
         else:
             vx, vy = body.velocity
             v_cur, w_cur = c * vx + s * vy, body.angular_velocity
-        v_goal = min(max(self._cmd_v, v_low), v_max)
-        w_goal = min(max(self._cmd_w, -w_max), w_max)
         dv_max, dw_max = a_max * dt, alpha_max * dt
         v = v_cur + min(max(v_goal - v_cur, -dv_max), dv_max)
         w = w_cur + min(max(w_goal - w_cur, -dw_max), dw_max)
