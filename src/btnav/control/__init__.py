@@ -1,0 +1,1 @@
+"""Controllers (MPPI, DWB, Regulated Pure Pursuit), goal and progress checkers."""

@@ -1,0 +1,43 @@
+"""The controller plugin base (nav2_core::Controller, in Python spelling)."""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from ..core.geometry import Pose2D
+from ..core.messages import Path, Twist
+from ..costmap.costmap_2d import Costmap2D
+from ..params.schema import ParamsModel
+
+
+class Controller:
+    """Base of every `controller` plugin: follows a path on the local costmap.
+
+    `compute_velocity_commands` gets the robot pose in the costmap's frame (odom for
+    Nav2's rolling local costmap) and raises one of `control.exceptions` (Nav2's
+    controller exceptions, each carrying FollowPath's error code) when it cannot.
+    """
+
+    class Params(ParamsModel):
+        pass
+
+    plugin_kind: ClassVar[str]
+    plugin_name: ClassVar[str]
+
+    def __init__(self, name: str, params: Params) -> None:
+        self.name = name
+        self.params = params
+
+    def set_plan(self, path: Path) -> None:
+        raise NotImplementedError
+
+    def compute_velocity_commands(
+        self, pose: Pose2D, velocity: Twist, costmap: Costmap2D, goal_checker: Any = None
+    ) -> Twist:
+        raise NotImplementedError
+
+    def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
+        """Nav2's speed limit (from a speed filter); 0 means no limit."""
+
+    def reset(self) -> None:
+        """Forget the state of the last path (a new goal is coming)."""

@@ -1,0 +1,1 @@
+"""Global planners (NavFn, ...) and path smoothers."""
