@@ -42,13 +42,14 @@ def test_every_implemented_server_is_loaded(nav2) -> None:
 
 
 def test_plugin_sections_resolve_to_nav2_types_not_implemented_yet(nav2) -> None:
-    follow = nav2.server("controller_server").plugins["FollowPath"]
-    assert (follow.kind, follow.type, follow.cls) == (
-        "controller",
-        "nav2_mppi_controller::MPPIController",
+    # AssistedTeleop is a Nav2 behavior btnav does not implement.
+    teleop = nav2.server("behavior_server").plugins["assisted_teleop"]
+    assert (teleop.kind, teleop.type, teleop.cls) == (
+        "behavior",
+        "nav2_behaviors::AssistedTeleop",
         None,
     )
-    assert follow.status == "not implemented yet"
+    assert teleop.status == "not implemented yet"
     kinds = {p.kind for p in nav2.plugins()}
     assert kinds >= {
         "planner",
@@ -75,8 +76,9 @@ def test_plugin_sections_resolve_to_nav2_types_not_implemented_yet(nav2) -> None
 def test_check_main_succeeds_and_reports(nav2_params_file: Path, capsys) -> None:
     assert check_main(nav2_params_file) == 0
     out = capsys.readouterr().out
-    assert "FollowPath -> nav2_mppi_controller::MPPIController: not implemented yet" in out
-    assert "GridBased -> nav2_navfn_planner::NavfnPlanner: not implemented yet" in out
+    assert "assisted_teleop -> nav2_behaviors::AssistedTeleop: not implemented yet" in out
+    assert "FollowPath -> nav2_mppi_controller::MPPIController" in out
+    assert "GridBased -> nav2_navfn_planner::NavfnPlanner" in out
     assert "line 538: docking_server: Nav2's docking server" in out
     assert "loopback_simulator" in out and "route_server" in out
     assert out.rstrip().splitlines()[-1].startswith("OK: 13 servers")
@@ -100,9 +102,6 @@ def test_ignored_entries_are_listed_once_each(nav2) -> None:
     assert "simple_charging_dock" in by_key["docking_server"].keys
     assert by_key["controller_server.use_realtime_priority"].line == 104
     assert by_key["amcl.introspection_mode"].line == 34
-    follow = by_key["controller_server.FollowPath"]
-    assert "MPPIController is not implemented yet" in follow.reason
-    assert {"time_steps", "critics"} <= set(follow.keys)
     # Listed in neither plugins nor filters: Nav2 never loads it, and btnav says so.
     static = by_key["local_costmap.local_costmap.static_layer"]
     assert "not listed in plugins" in static.reason and static.line == 289
