@@ -1,0 +1,1 @@
+"""Importing this module registers btnav's built-in costmap plugins (entry point `btnav.plugins`)."""
