@@ -65,6 +65,21 @@ class Odometry:
     child_frame_id: str = "base_footprint"
 
 
+def _zero_cov() -> NDArray[np.float64]:
+    return np.zeros((3, 3))
+
+
+@dataclass
+class PoseWithCovariance:
+    """geometry_msgs/PoseWithCovarianceStamped in 2D: what a localiser publishes (amcl_pose)
+    and what a user sets as the initial pose; covariance over (x, y, yaw)."""
+
+    stamp: float
+    pose: Pose2D
+    covariance: NDArray[np.float64] = field(default_factory=_zero_cov)
+    frame_id: str = "map"
+
+
 @dataclass
 class PoseStamped:
     stamp: float

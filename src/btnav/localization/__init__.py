@@ -1,0 +1,1 @@
+"""Localisers: they publish map -> odom (ground truth now; AMCL to come)."""

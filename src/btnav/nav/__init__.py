@@ -1,0 +1,22 @@
+"""Navigation runtime: the scheduler on sim time, actions, Nav2's error codes, localisers."""
+
+from .actions import ActionClient, ActionServer, ActionServers, GoalHandle, GoalStatus
+from .error_codes import ERROR_CODES, NavErrorCode, NavResult, Outcome, error_codes, error_message
+from .runtime import Component, Runtime, Stage
+
+__all__ = [
+    "ERROR_CODES",
+    "ActionClient",
+    "ActionServer",
+    "ActionServers",
+    "Component",
+    "GoalHandle",
+    "GoalStatus",
+    "NavErrorCode",
+    "NavResult",
+    "Outcome",
+    "Runtime",
+    "Stage",
+    "error_codes",
+    "error_message",
+]
