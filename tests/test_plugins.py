@@ -31,7 +31,9 @@ def test_both_nav2_spellings_find_the_plugin(straight_line):
     ):
         assert plugins.lookup("planner", name) is straight_line
     assert straight_line.plugin_name == "btnav/StraightLine"
-    assert plugins.names("planner") == ["btnav/StraightLine"]
+    assert "btnav/StraightLine" in plugins.names("planner")
+    assert "nav2_straightline_planner/StraightLine" not in plugins.names("planner")
+    assert "nav2_straightline_planner/StraightLine" in plugins.names("planner", aliases=True)
 
 
 def test_unknown_name_suggests_the_close_one(straight_line):

@@ -1,0 +1,295 @@
+"""NavFn's navigation function: cost mapping, potential field and gradient-descent path.
+
+The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
+
+- Costs are mapped as NavFn maps them: a costmap cost `c` < 253 becomes
+  `COST_NEUTRAL + floor(COST_FACTOR * c)` (50..251), inscribed and lethal cells become
+  `COST_OBS`, unknown cells become `COST_OBS - 1` when unknown space is allowed and
+  `COST_OBS` otherwise, and the outer border of the grid is an obstacle.
+- The potential is 0 at the robot's cell and grows by a cell's mapped cost for every
+  cell length travelled through it; `POT_HIGH` marks cells never reached. NavFn
+  propagates a 4-neighbour planar wave with bucketed priorities; here the same cost
+  field is propagated by a shortest-path search on the 8-connected grid
+  (scipy.sparse.csgraph.dijkstra, straight steps cost `c`, diagonal steps `sqrt(2) c`,
+  no corner cutting between two blocked cells), which is exact for that graph and
+  runs in C. A* (`use_astar`) is the same search on heuristic-reduced weights with an
+  expanding bound, so it visits only cells near the straight line and, its heuristic
+  being consistent, yields the same potential along the optimal path.
+- The path is extracted as `calcPath` does: from the goal cell, step half a cell down
+  the bilinearly interpolated, normalised potential gradient; next to unreached cells
+  (or when oscillating) follow the grid to the lowest of the eight neighbours; stop
+  when the potential falls below `COST_NEUTRAL` (the robot's cell is next).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from array import array
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from .exceptions import PlannerCancelled
+
+COST_NEUTRAL = 50
+COST_FACTOR = 0.8
+COST_OBS = 254
+POT_HIGH = 1.0e10
+#: Gradient-descent step, in cells (NavFn's pathStep).
+PATH_STEP = 0.5
+SQRT2 = math.sqrt(2.0)
+SQRT5 = math.sqrt(5.0)
+
+#: (dy, dx) of the 16 neighbours (the 8 around a cell and the 8 knight's moves), in
+#: the column order of the graph's CSR rows.
+_OFFSETS = (
+    (-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1),
+    (-2, -1), (-2, 1), (-1, -2), (-1, 2), (1, -2), (1, 2), (2, -1), (2, 1),
+)  # fmt: skip
+_K = len(_OFFSETS)
+
+
+def navfn_costs(costs: NDArray[np.uint8], allow_unknown: bool) -> NDArray[np.uint8]:
+    """NavFn's `costarr` from a costmap's Nav2 costs (setCostmap + the border of setupNavFn)."""
+    c = np.asarray(costs)
+    out = np.full(c.shape, COST_OBS, dtype=np.uint8)
+    free = c < INSCRIBED_INFLATED_OBSTACLE
+    mapped = COST_NEUTRAL + np.floor(COST_FACTOR * c[free].astype(np.float64))
+    out[free] = np.minimum(mapped, COST_OBS - 1).astype(np.uint8)
+    if allow_unknown:
+        out[c == NO_INFORMATION] = COST_OBS - 1
+    out[0, :] = out[-1, :] = COST_OBS
+    out[:, 0] = out[:, -1] = COST_OBS
+    return out
+
+
+class GridGraph:
+    """The 8-connected graph of one grid shape; its structure is built once and reused."""
+
+    def __init__(self, ny: int, nx: int) -> None:
+        self.shape = (ny, nx)
+        n = ny * nx
+        index = np.arange(n, dtype=np.int32).reshape(ny, nx)
+        padded = np.pad(index, 2)  # off-grid neighbours point at cell 0 with an infinite weight
+        cols = np.empty((ny, nx, _K), dtype=np.int32)
+        for k, (dy, dx) in enumerate(_OFFSETS):
+            cols[:, :, k] = padded[2 + dy : 2 + dy + ny, 2 + dx : 2 + dx + nx]
+        self.indices = cols.reshape(-1)
+        self.indptr = np.arange(0, _K * n + 1, _K, dtype=np.int32)
+        self._cache_key: bytes | None = None
+        self._cache: csr_matrix | None = None
+
+    def weights(self, costarr: NDArray[np.uint8]) -> NDArray[np.float64]:
+        """Edge weights: the step length times the mean mapped cost of the cells it
+        enters (for a straight or diagonal step, the one cell entered)."""
+        ny, nx = self.shape
+        c = costarr.astype(np.float64)
+        c[costarr >= COST_OBS] = np.inf
+        pad = np.pad(c, 2, constant_values=np.inf)
+
+        def at(dy: int, dx: int) -> NDArray[np.float64]:
+            return pad[2 + dy : 2 + dy + ny, 2 + dx : 2 + dx + nx]
+
+        w = np.empty((ny, nx, _K))
+        for k, (dy, dx) in enumerate(_OFFSETS):
+            if abs(dy) + abs(dx) == 1:
+                w[:, :, k] = at(dy, dx)
+            elif abs(dy) == abs(dx):
+                # no corner cutting: both cells beside the diagonal must be passable
+                side = at(dy, 0) + at(0, dx)
+                w[:, :, k] = np.where(np.isfinite(side), SQRT2 * at(dy, dx), np.inf)
+            else:
+                # a knight's move crosses two cells on its way into a third
+                sy, sx = int(np.sign(dy)), int(np.sign(dx))
+                a = at(sy, 0) if abs(dy) == 2 else at(0, sx)
+                b = at(sy, sx)
+                w[:, :, k] = SQRT5 * (a + b + at(dy, dx)) / 3.0
+        return w.reshape(-1)
+
+    def cached_graph(self, costarr: NDArray[np.uint8]) -> csr_matrix:
+        """The graph of `costarr`'s own weights, rebuilt only when the costs change
+        (a planner server replans on a mostly unchanged global costmap)."""
+        key = hashlib.blake2b(costarr.tobytes(), digest_size=16).digest()
+        if self._cache_key != key:
+            self._cache_key, self._cache = key, self.graph(self.weights(costarr))
+        return self._cache
+
+    def graph(self, weights: NDArray[np.float64]) -> csr_matrix:
+        """The CSR graph of these weights (an infinite weight is never relaxed: no edge)."""
+        n = self.indptr.size - 1
+        return csr_matrix((weights, self.indices, self.indptr), shape=(n, n))
+
+
+def _search(graph: csr_matrix, source: int, limit: float = np.inf) -> NDArray[np.float64]:
+    """Shortest distances from `source`; inf beyond `limit`."""
+    return dijkstra(graph, directed=True, indices=source, limit=limit)  # type: ignore[no-any-return]
+
+
+def compute_potential(
+    graph: GridGraph,
+    costarr: NDArray[np.uint8],
+    start: tuple[int, int],
+    goal: tuple[int, int],
+    use_astar: bool = False,
+    cancel_checker: Callable[[], bool] | None = None,
+) -> NDArray[np.float64]:
+    """The (ny, nx) potential from the robot cell `start` (mx, my); POT_HIGH where unreached.
+
+    Both searches stop soon after reaching `goal` (as NavFn's do), within a bound that
+    doubles until the goal is reached or every reachable cell has been visited.
+    """
+    ny, nx = costarr.shape
+    src = start[1] * nx + start[0]
+    _check(cancel_checker)
+    csr = None
+    ys, xs = np.divmod(np.arange(ny * nx), nx)
+    dst = goal[1] * nx + goal[0]
+    straight = COST_NEUTRAL * math.hypot(goal[0] - start[0], goal[1] - start[1])
+    # A step never adds more than this, so no reached cell lies beyond the bound by more.
+    max_step = 2.0 * COST_OBS * SQRT2
+    if use_astar:
+        weights = graph.weights(costarr)
+        h = COST_NEUTRAL * np.hypot(xs - goal[0], ys - goal[1])
+        weights = weights + h[graph.indices] - np.repeat(h, _K)
+        np.maximum(weights, 0.0, out=weights)  # rounding only: the heuristic is consistent
+        csr = graph.graph(weights)
+        bound = 0.5 * straight + max_step  # on the reduced distance: the detour allowed
+    else:
+        h = np.zeros(ny * nx)
+        bound = 1.5 * straight + max_step
+    # Like NavFn, stop once the goal is reached: search within a bound, doubled as needed.
+    if csr is None:
+        csr = graph.cached_graph(costarr)
+    while True:
+        _check(cancel_checker)
+        dist = _search(csr, src, limit=bound)
+        reached = np.isfinite(dist)
+        if reached[dst] or dist[reached].max() + max_step < bound:
+            break  # found, or the reachable region is exhausted below the bound
+        bound *= 2.0
+    if reached[dst] and dist[dst] + 8 * COST_NEUTRAL > bound:
+        # a band of a few cells beyond the goal, for the gradient descent around it
+        dist = _search(csr, src, limit=dist[dst] + 8 * COST_NEUTRAL)
+    dist = dist - h + h[src]
+    dist[~np.isfinite(dist)] = POT_HIGH
+    return dist.reshape(ny, nx)
+
+
+def _check(cancel_checker: Callable[[], bool] | None) -> None:
+    if cancel_checker is not None and cancel_checker():
+        raise PlannerCancelled("planning was cancelled by its cancel_checker")
+
+
+def _c_round(v: float) -> int:
+    """C's round(): halves away from zero."""
+    return math.floor(v + 0.5) if v >= 0 else -math.floor(-v + 0.5)
+
+
+def extract_path(
+    potential: NDArray[np.float64],
+    from_xy: tuple[float, float],
+    to_cell: tuple[int, int],
+    max_cycles: int,
+    cancel_checker: Callable[[], bool] | None = None,
+) -> NDArray[np.float64] | None:
+    """NavFn's calcPath: (N, 2) map coordinates from `from_xy` down the potential to
+    `to_cell` (the potential's zero), or None on failure.
+
+    Coordinates are in cells with cell centres at integers (cell (i, j) is (i, j));
+    the descent starts at `from_xy` itself, not at its cell's centre."""
+    ny, nx = potential.shape
+    ns = nx * ny
+    pot = array("d")
+    pot.frombytes(np.ascontiguousarray(potential, dtype=np.float64).tobytes())
+    grads: dict[int, tuple[float, float]] = {}
+
+    def grad(n: int) -> tuple[float, float]:
+        g = grads.get(n)
+        if g is not None:
+            return g
+        if n < nx or n > ns - nx:
+            g = (0.0, 0.0)
+        else:
+            cv, lft, rgt, up, dn = pot[n], pot[n - 1], pot[n + 1], pot[n - nx], pot[n + nx]
+            gx = gy = 0.0
+            if cv >= POT_HIGH:
+                if lft < POT_HIGH:
+                    gx = -COST_OBS
+                elif rgt < POT_HIGH:
+                    gx = COST_OBS
+                if up < POT_HIGH:
+                    gy = -COST_OBS
+                elif dn < POT_HIGH:
+                    gy = COST_OBS
+            else:
+                if lft < POT_HIGH:
+                    gx += lft - cv
+                if rgt < POT_HIGH:
+                    gx += cv - rgt
+                if up < POT_HIGH:
+                    gy += up - cv
+                if dn < POT_HIGH:
+                    gy += cv - dn
+            norm = math.hypot(gx, gy)
+            g = (gx / norm, gy / norm) if norm > 0 else (0.0, 0.0)
+        grads[n] = g
+        return g
+
+    fx, fy = math.floor(from_xy[0]), math.floor(from_xy[1])
+    stc = fy * nx + fx
+    dx, dy = from_xy[0] - fx, from_xy[1] - fy
+    xs: list[float] = []
+    ys: list[float] = []
+    for i in range(max_cycles):
+        if i % 1000 == 999:
+            _check(cancel_checker)
+        nearest = min(max(stc + _c_round(dx) + nx * _c_round(dy), 0), ns - 1)
+        if pot[nearest] < COST_NEUTRAL:
+            xs.append(float(to_cell[0]))
+            ys.append(float(to_cell[1]))
+            return np.column_stack([xs, ys])
+        if stc < nx or stc > ns - nx:
+            return None
+        xs.append(stc % nx + dx)
+        ys.append(stc // nx + dy)
+        oscillating = len(xs) > 2 and xs[-1] == xs[-3] and ys[-1] == ys[-3]
+        ring = (
+            stc - nx - 1, stc - nx, stc - nx + 1,
+            stc - 1, stc + 1,
+            stc + nx - 1, stc + nx, stc + nx + 1,
+        )  # fmt: skip
+        if oscillating or pot[stc] >= POT_HIGH or any(pot[k] >= POT_HIGH for k in ring):
+            best, best_pot = stc, pot[stc]
+            for k in ring:
+                if pot[k] < best_pot:
+                    best, best_pot = k, pot[k]
+            stc, dx, dy = best, 0.0, 0.0
+            if best_pot >= POT_HIGH:
+                return None
+            continue
+        g00, g10, g01, g11 = grad(stc), grad(stc + 1), grad(stc + nx), grad(stc + nx + 1)
+        x = (1 - dy) * ((1 - dx) * g00[0] + dx * g10[0]) + dy * ((1 - dx) * g01[0] + dx * g11[0])
+        y = (1 - dy) * ((1 - dx) * g00[1] + dx * g10[1]) + dy * ((1 - dx) * g01[1] + dx * g11[1])
+        if x == 0.0 and y == 0.0:
+            return None
+        ss = PATH_STEP / math.hypot(x, y)
+        dx += x * ss
+        dy += y * ss
+        if dx > 1.0:
+            stc += 1
+            dx -= 1.0
+        if dx < -1.0:
+            stc -= 1
+            dx += 1.0
+        if dy > 1.0:
+            stc += nx
+            dy -= 1.0
+        if dy < -1.0:
+            stc -= nx
+            dy += 1.0
+    return None
