@@ -8,6 +8,12 @@ from .cost_values import (
     NO_INFORMATION,
 )
 from .costmap_2d import Costmap2D
+from .footprint import footprint_from_radius, min_max_distances, pad_footprint
+from .inflation_layer import InflationLayer, inflation_cost
+from .layer import Bounds, CostmapLayer, Layer, Window
+from .layered_costmap import Costmap2DROS, CostmapROS, LayeredCostmap, robot_footprint
+from .obstacle_layer import ObservationSource, ObstacleLayer, VoxelLayer
+from .static_layer import StaticLayer, interpret_values
 
 __all__ = [
     "FREE_SPACE",
@@ -15,5 +21,23 @@ __all__ = [
     "LETHAL_OBSTACLE",
     "MAX_NON_OBSTACLE",
     "NO_INFORMATION",
+    "Bounds",
     "Costmap2D",
+    "Costmap2DROS",
+    "CostmapLayer",
+    "CostmapROS",
+    "InflationLayer",
+    "Layer",
+    "LayeredCostmap",
+    "ObservationSource",
+    "ObstacleLayer",
+    "StaticLayer",
+    "VoxelLayer",
+    "Window",
+    "footprint_from_radius",
+    "inflation_cost",
+    "interpret_values",
+    "min_max_distances",
+    "pad_footprint",
+    "robot_footprint",
 ]

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,3 +97,73 @@ class Costmap2D:
             self.frame_id,
             self.default_value,
         )
+
+    # -- Nav2 Costmap2D helpers ------------------------------------------------------
+
+    def world_to_map_enforce_bounds(self, x: float, y: float) -> tuple[int, int]:
+        """The cell of a world point, clamped onto the map (Nav2's worldToMapEnforceBounds)."""
+        mx = math.floor((x - self.origin_x) / self.resolution)
+        my = math.floor((y - self.origin_y) / self.resolution)
+        return min(max(mx, 0), self.size_x - 1), min(max(my, 0), self.size_y - 1)
+
+    def cell_distance(self, world_dist: float) -> int:
+        """A distance in cells, rounded up (Nav2's cellDistance)."""
+        return max(0, math.ceil(world_dist / self.resolution))
+
+    def reset_map(
+        self, x0: int = 0, y0: int = 0, xn: int | None = None, yn: int | None = None
+    ) -> None:
+        """Cells [x0, xn) x [y0, yn) back to `default_value` (Nav2's resetMap); all by default."""
+        xn = self.size_x if xn is None else xn
+        yn = self.size_y if yn is None else yn
+        self.costs[max(y0, 0) : max(yn, 0), max(x0, 0) : max(xn, 0)] = self.default_value
+
+    def resize_map(
+        self, size_x: int, size_y: int, resolution: float, origin_x: float, origin_y: float
+    ) -> None:
+        """A new geometry, every cell at `default_value` (Nav2's resizeMap)."""
+        if not resolution > 0:
+            raise ValueError(f"resolution must be positive, got {resolution}")
+        self.costs = np.full((max(size_y, 1), max(size_x, 1)), self.default_value, np.uint8)
+        self.resolution = float(resolution)
+        self.origin_x = float(origin_x)
+        self.origin_y = float(origin_y)
+
+    def update_origin(self, new_origin_x: float, new_origin_y: float) -> None:
+        """Move the map to a new origin, keeping the cells that stay on it (rolling windows).
+
+        As Nav2's updateOrigin: the move is a whole number of cells (truncated), so
+        kept cells keep their exact world position; new cells get `default_value`.
+        """
+        cell_ox = int((new_origin_x - self.origin_x) / self.resolution)
+        cell_oy = int((new_origin_y - self.origin_y) / self.resolution)
+        if cell_ox == 0 and cell_oy == 0:
+            return
+        sx, sy = self.size_x, self.size_y
+        out = np.full_like(self.costs, self.default_value)
+        # Overlap in old-map cells: [lx, ux) x [ly, uy).
+        lx, ly = max(cell_ox, 0), max(cell_oy, 0)
+        ux, uy = min(cell_ox + sx, sx), min(cell_oy + sy, sy)
+        if lx < ux and ly < uy:
+            out[ly - cell_oy : uy - cell_oy, lx - cell_ox : ux - cell_ox] = self.costs[ly:uy, lx:ux]
+        self.costs = out
+        self.origin_x += cell_ox * self.resolution
+        self.origin_y += cell_oy * self.resolution
+
+    def same_geometry(self, other: Costmap2D) -> bool:
+        return (
+            self.costs.shape == other.costs.shape
+            and self.resolution == other.resolution
+            and self.origin_x == other.origin_x
+            and self.origin_y == other.origin_y
+        )
+
+    def cell_centers(
+        self, x0: int = 0, y0: int = 0, xn: int | None = None, yn: int | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """World x (1, n) and y (m, 1) of the centres of cells [x0, xn) x [y0, yn), broadcastable."""
+        xn = self.size_x if xn is None else xn
+        yn = self.size_y if yn is None else yn
+        xs = self.origin_x + (np.arange(x0, xn) + 0.5) * self.resolution
+        ys = self.origin_y + (np.arange(y0, yn) + 0.5) * self.resolution
+        return xs[None, :], ys[:, None]

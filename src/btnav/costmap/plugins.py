@@ -1,1 +1,3 @@
 """Importing this module registers btnav's built-in costmap plugins (entry point `btnav.plugins`)."""
+
+from . import inflation_layer, obstacle_layer, static_layer  # noqa: F401  (they register on import)

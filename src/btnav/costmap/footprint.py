@@ -1,0 +1,94 @@
+"""Robot footprints as Nav2's costmap handles them (nav2_costmap_2d/footprint.hpp).
+
+A footprint is an (N, 2) polygon in the robot frame. `robot_radius` becomes a
+16-gon, padding moves every vertex outwards by `footprint_padding` along x and y,
+and the inscribed/circumscribed radii are the nearest edge and farthest vertex.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..core.geometry import Pose2D
+from .costmap_2d import Costmap2D
+
+#: Vertices of the polygon Nav2 makes from robot_radius.
+RADIUS_VERTICES = 16
+
+
+def footprint_from_radius(radius: float) -> NDArray[np.float64]:
+    """The 16-gon Nav2 uses for a circular robot (makeFootprintFromRadius)."""
+    a = np.arange(RADIUS_VERTICES) * (2.0 * math.pi / RADIUS_VERTICES)
+    return np.stack([radius * np.cos(a), radius * np.sin(a)], axis=-1)
+
+
+def pad_footprint(footprint: ArrayLike, padding: float) -> NDArray[np.float64]:
+    """Every vertex `padding` further out along x and y (Nav2's padFootprint, sign-wise)."""
+    fp = np.asarray(footprint, dtype=float).reshape(-1, 2)
+    return fp + np.sign(fp) * padding
+
+
+def min_max_distances(footprint: ArrayLike) -> tuple[float, float]:
+    """(inscribed, circumscribed) radius: nearest edge and farthest vertex from the origin."""
+    fp = np.asarray(footprint, dtype=float).reshape(-1, 2)
+    if len(fp) == 0:
+        return 0.0, 0.0
+    vertex = np.hypot(fp[:, 0], fp[:, 1])
+    if len(fp) < 2:
+        return float(vertex.min()), float(vertex.max())
+    a, b = fp, np.roll(fp, -1, axis=0)
+    ab = b - a
+    den = np.einsum("ij,ij->i", ab, ab)
+    t = np.clip(
+        np.where(den > 0, -np.einsum("ij,ij->i", a, ab) / np.where(den > 0, den, 1), 0), 0, 1
+    )
+    closest = a + t[:, None] * ab
+    edge = np.hypot(closest[:, 0], closest[:, 1])
+    return float(min(vertex.min(), edge.min())), float(vertex.max())
+
+
+def transform_footprint(pose: Pose2D, footprint: ArrayLike) -> NDArray[np.float64]:
+    return pose.transform_points(np.asarray(footprint, dtype=float).reshape(-1, 2))
+
+
+def polygon_cells(
+    costmap: Costmap2D, polygon: ArrayLike
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """(my, mx) of the cells a world polygon covers: its outline and its inside.
+
+    Like Nav2's convexFillCells: every cell the outline passes through, plus every
+    cell whose centre is inside. Vectorised over the polygon's bounding box.
+    """
+    poly = np.asarray(polygon, dtype=float).reshape(-1, 2)
+    if len(poly) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    res = costmap.resolution
+    # The outline, sampled finer than a cell.
+    a, b = poly, np.roll(poly, -1, axis=0)
+    n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (0.25 * res)).astype(int), 1)
+    seg = np.repeat(np.arange(len(poly)), n + 1)
+    t = np.arange(seg.size) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)
+    t = t / np.repeat(n, n + 1)
+    outline = a[seg] + t[:, None] * (b - a)[seg]
+    m, inside = costmap.world_to_map(outline)
+    ys_out, xs_out = m[inside][:, 1], m[inside][:, 0]
+    # The inside: cell centres in the bounding box, even-odd rule.
+    (x0, y0), _ = costmap.world_to_map(poly.min(axis=0))
+    (x1, y1), _ = costmap.world_to_map(poly.max(axis=0))
+    x0, y0 = max(int(x0), 0), max(int(y0), 0)
+    x1, y1 = min(int(x1) + 1, costmap.size_x), min(int(y1) + 1, costmap.size_y)
+    if x0 < x1 and y0 < y1:
+        cx, cy = costmap.cell_centers(x0, y0, x1, y1)
+        px, py = np.broadcast_arrays(cx, cy)
+        inside_poly = np.zeros(px.shape, dtype=bool)
+        for (ax, ay), (bx, by) in zip(a, b, strict=True):  # loop over edges, not cells
+            crosses = (ay > py) != (by > py)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                xint = ax + (py - ay) * (bx - ax) / (by - ay)
+            inside_poly ^= crosses & (px < xint)
+        iy, ix = np.nonzero(inside_poly)
+        return np.concatenate([ys_out, iy + y0]), np.concatenate([xs_out, ix + x0])
+    return ys_out, xs_out

@@ -1,0 +1,135 @@
+"""nav2_costmap_2d::InflationLayer: costs that decay with the distance to the nearest obstacle.
+
+Nav2's cost function, on the distance d (metres, between cell centres) to the
+nearest lethal cell: 254 at the obstacle, 253 while d <= the robot's inscribed
+radius, then `int(252 * exp(-cost_scaling_factor * (d - inscribed_radius)))`, and
+nothing beyond `inflation_radius` (rounded up to whole cells, as Nav2 does).
+Nav2 propagates a wavefront cell by cell; here scipy's exact Euclidean distance
+transform computes the same nearest distances over the window at once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field
+from scipy.ndimage import distance_transform_edt
+
+from ..core.geometry import Pose2D
+from ..plugins import register
+from .cost_values import (
+    FREE_SPACE,
+    INSCRIBED_INFLATED_OBSTACLE,
+    LETHAL_OBSTACLE,
+    NO_INFORMATION,
+)
+from .costmap_2d import Costmap2D
+from .layer import Bounds, Layer, Window
+
+
+def inflation_cost(
+    distance_m: NDArray[np.float64] | float,
+    inscribed_radius: float,
+    cost_scaling_factor: float,
+    inflation_radius: float | None = None,
+) -> NDArray[np.uint8]:
+    """Nav2's computeCost on distances in metres (0 means the obstacle cell itself)."""
+    d = np.asarray(distance_m, dtype=float)
+    factor = np.exp(-cost_scaling_factor * (d - inscribed_radius))
+    decayed = np.floor((INSCRIBED_INFLATED_OBSTACLE - 1) * np.minimum(factor, 1.0))
+    cost = np.where(
+        d == 0,
+        LETHAL_OBSTACLE,
+        np.where(d <= inscribed_radius, INSCRIBED_INFLATED_OBSTACLE, decayed),
+    )
+    if inflation_radius is not None:
+        cost = np.where(d > inflation_radius, FREE_SPACE, cost)
+    return cost.astype(np.uint8)
+
+
+@register("costmap_layer", "nav2_costmap_2d::InflationLayer", aliases=("btnav/InflationLayer",))
+class InflationLayer(Layer):
+    """Inflates lethal cells of the master grid by the robot's inscribed radius and a decay."""
+
+    class Params(Layer.Params):
+        inflation_radius: float = Field(0.55, ge=0.0, description="m")
+        cost_scaling_factor: float = Field(10.0, ge=0.0)
+        inflate_unknown: bool = False
+        inflate_around_unknown: bool = False
+
+    def __init__(self, name: str, params: Params | None = None) -> None:
+        super().__init__(name, params)
+        self.params: InflationLayer.Params
+        self.need_reinflation = True
+        self._last_bounds = Bounds()
+
+    @property
+    def inscribed_radius(self) -> float:
+        return self.layered.inscribed_radius if self.layered is not None else 0.0
+
+    def cell_inflation_radius(self) -> int:
+        return self.master.cell_distance(self.params.inflation_radius)
+
+    def on_footprint_changed(self) -> None:
+        self.need_reinflation = True
+
+    def on_params_changed(self) -> None:
+        self.need_reinflation = True
+
+    def match_size(self) -> None:
+        self.need_reinflation = True
+
+    def reset(self) -> None:
+        self.need_reinflation = True
+        self.current = True
+
+    def update_bounds(self, robot: Pose2D, bounds: Bounds) -> None:
+        if self.need_reinflation:
+            # Everything: the cost function or the grid changed.
+            self._last_bounds = Bounds()
+            self._last_bounds.merge(bounds)
+            bounds.cover(self.master)
+            self.need_reinflation = False
+            return
+        # Where costs changed now or last time (so removed obstacles lose their inflation).
+        previous, self._last_bounds = self._last_bounds, Bounds()
+        self._last_bounds.merge(bounds)
+        if bounds.empty and previous.empty:
+            return
+        grown = Bounds()
+        grown.merge(bounds)
+        grown.merge(previous)
+        grown = grown.expanded(self.params.inflation_radius)
+        bounds.merge(grown)
+
+    def update_costs(self, master: Costmap2D, window: Window) -> None:
+        if not self.enabled or window.empty:
+            return
+        p = self.params
+        r = self.cell_inflation_radius()
+        # Obstacles up to r cells outside the window still inflate into it.
+        x0, y0 = max(window.x0 - r - 1, 0), max(window.y0 - r - 1, 0)
+        xn, yn = min(window.xn + r + 1, master.size_x), min(window.yn + r + 1, master.size_y)
+        region = master.costs[y0:yn, x0:xn]
+        seeds = region == LETHAL_OBSTACLE
+        if p.inflate_around_unknown:
+            seeds |= region == NO_INFORMATION
+        if not seeds.any():
+            return
+        dist_cells = distance_transform_edt(~seeds)
+        iy, ix = slice(window.y0 - y0, window.yn - y0), slice(window.x0 - x0, window.xn - x0)
+        d = dist_cells[iy, ix]
+        near = d <= r
+        if not near.any():
+            return
+        cost = np.zeros(d.shape, np.uint8)
+        cost[near] = inflation_cost(
+            d[near] * master.resolution, self.inscribed_radius, p.cost_scaling_factor
+        )
+        old = master.costs[window.slices]
+        unknown = old == NO_INFORMATION
+        # Unknown cells take the inflated cost only when it is "inscribed" or worse,
+        # or any positive cost with inflate_unknown; the others keep the higher cost.
+        threshold = FREE_SPACE + 1 if p.inflate_unknown else INSCRIBED_INFLATED_OBSTACLE
+        take = np.where(unknown, near & (cost >= threshold), near & (cost > old))
+        np.copyto(old, cost, where=take)

@@ -1,0 +1,348 @@
+"""nav2_costmap_2d::ObstacleLayer and VoxelLayer: obstacles marked and cleared from scans.
+
+Each observation source (`observation_sources: scan`, then a `scan:` section) takes
+LaserScans. A reading is transformed into the costmap's global frame with the frame
+tree when it arrives (as Nav2 does at the scan's stamp). On update, as Nav2: every
+clearing observation first frees the cells along its beams (from
+`raytrace_min_range` to the reading, at most `raytrace_max_range`), then every
+marking observation marks its end points closer than `obstacle_max_range` (and not
+closer than `obstacle_min_range`) as LETHAL; finally the robot's footprint is
+cleared (`footprint_clearing_enabled`). REP-117 values: `+inf` (no return) clears
+up to the scanner's range when the source has `inf_is_valid` and is skipped
+otherwise; it never marks. `-inf` and NaN are skipped. All beams of a scan are
+traced at once: one numpy array of cells for the whole scan.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field, model_validator
+
+from ..core.errors import FrameError
+from ..core.frames import FrameTree
+from ..core.geometry import Pose2D
+from ..core.messages import LaserScan
+from ..params.schema import (
+    FieldProblem,
+    Names,
+    ParamsModel,
+    Why,
+    ignored,
+    named_sections,
+    one_of,
+)
+from ..plugins import register
+from .cost_values import FREE_SPACE, LETHAL_OBSTACLE
+from .costmap_2d import Costmap2D
+from .footprint import polygon_cells, transform_footprint
+from .layer import Bounds, CostmapLayer, Window, combination_method_field
+
+#: Nav2 stores +inf returns as range_max minus a tenth of a millimetre.
+INF_EPSILON = 1e-4
+
+
+class ObservationSource(ParamsModel):
+    """One sensor feeding an obstacle layer (Nav2's `<layer>.<source>.*` keys)."""
+
+    data_type: one_of("LaserScan", "PointCloud2", "PointCloud") = "LaserScan"  # type: ignore[valid-type]
+    marking: bool = True
+    clearing: bool = False
+    obstacle_max_range: float = Field(2.5, ge=0.0, description="m")
+    obstacle_min_range: float = Field(0.0, ge=0.0, description="m")
+    raytrace_max_range: float = Field(3.0, ge=0.0, description="m")
+    raytrace_min_range: float = Field(0.0, ge=0.0, description="m")
+    inf_is_valid: bool = False
+    sensor_frame: str = Field("", description="overrides the scan's frame_id when set")
+    observation_persistence: float = Field(0.0, ge=0.0, description="s; 0 keeps the latest only")
+    expected_update_rate: float = Field(0.0, ge=0.0, description="s between readings; 0: no check")
+    min_obstacle_height: float = ignored(0.0, "a planar scan has no height to filter")
+    max_obstacle_height: float = ignored(2.0, "a planar scan has no height to filter")
+    topic: str = ignored("", Why.TOPIC)
+    transport_type: str = ignored("raw", Why.TOPIC)
+    # Old spellings Nav2 Humble still read.
+    clear_after_reading: bool = ignored(False, Why.ROS)
+
+
+def _source_names(value: Any) -> Any:
+    """Nav2 writes `observation_sources: scan bump` (a string) or a list."""
+    if isinstance(value, str):
+        return value.split()
+    return value
+
+
+class ObstacleLayerParams(CostmapLayer.Params):
+    footprint_clearing_enabled: bool = True
+    min_obstacle_height: float = ignored(0.0, "a planar scan has no height to filter")
+    max_obstacle_height: float = ignored(2.0, "a planar scan has no height to filter")
+    combination_method: int = combination_method_field()
+    observation_sources: Names = []
+    sources: dict[str, ObservationSource] = named_sections("observation_sources")
+    tf_filter_tolerance: float = ignored(0.05, Why.TF, ge=0.0)
+    transform_tolerance: float = ignored(0.2, Why.TF, ge=0.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _gather(cls, data: Any) -> Any:
+        if not isinstance(data, Mapping):
+            return data
+        if "sources" in data:
+            gathered = data["sources"]
+            if isinstance(gathered, Mapping) and all(
+                isinstance(v, ObservationSource) for v in gathered.values()
+            ):
+                return data  # a validated model being re-checked (attribute assignment)
+            raise FieldProblem("sources", "unknown key 'sources'")
+        out = dict(data)
+        names = _source_names(out.get("observation_sources", []))
+        if names is not None:
+            out["observation_sources"] = names
+        sections: dict[Any, Any] = {}
+        if isinstance(names, list) and all(isinstance(n, str) for n in names):
+            for name in names:
+                if name in cls.model_fields:
+                    raise FieldProblem(
+                        "observation_sources", f"'{name}' is a key of this section, not a name"
+                    )
+                # Nav2 gives a source without a section its default keys.
+                sections[name] = out.pop(name, None) or {}
+        out["sources"] = sections
+        return out
+
+
+@dataclass
+class Observation:
+    """One scan in the global frame: its origin, marked points and clearing ray ends."""
+
+    stamp: float
+    origin: NDArray[np.float64]  # (2,)
+    marks: NDArray[np.float64]  # (N, 2)
+    ray_starts: NDArray[np.float64]  # (M, 2)
+    ray_ends: NDArray[np.float64]  # (M, 2)
+
+
+def scan_observation(
+    scan: LaserScan, sensor_pose: Pose2D, source: ObservationSource, stamp: float | None = None
+) -> Observation:
+    """The marking points and clearing rays of a scan, in the frame `sensor_pose` is given in."""
+    r = np.asarray(scan.ranges, dtype=float)
+    a = scan.angles
+    finite = np.isfinite(r) & (r >= scan.range_min) & (r <= scan.range_max)
+    c, s = np.cos(a), np.sin(a)
+    mark = finite & (r < source.obstacle_max_range) & (r >= source.obstacle_min_range)
+    rm = r[mark]
+    marks = sensor_pose.transform_points(np.stack([rm * c[mark], rm * s[mark]], axis=-1))
+    # Clearing: valid readings, and +inf as "nothing up to range_max" when inf_is_valid.
+    length = np.where(finite, r, np.nan)
+    if source.inf_is_valid:
+        length = np.where(np.isposinf(r), scan.range_max - INF_EPSILON, length)
+    ok = np.isfinite(length)
+    length = np.minimum(length[ok], source.raytrace_max_range)
+    start = np.full(length.shape, source.raytrace_min_range)
+    keep = length > start
+    cs, ss = c[ok][keep], s[ok][keep]
+    starts = sensor_pose.transform_points(np.stack([start[keep] * cs, start[keep] * ss], -1))
+    ends = sensor_pose.transform_points(np.stack([length[keep] * cs, length[keep] * ss], -1))
+    return Observation(
+        scan.stamp if stamp is None else stamp,
+        np.array([sensor_pose.x, sensor_pose.y]),
+        marks,
+        starts,
+        ends,
+    )
+
+
+def trace_cells(
+    costmap: Costmap2D,
+    origin: NDArray[np.float64],
+    starts: NDArray[np.float64],
+    ends: NDArray[np.float64],
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """(my, mx) of every cell on the segments starts[i] -> ends[i], all rays at once.
+
+    Ends are pulled back onto the map along their ray (as Nav2 does); a line visits
+    one cell per step along its major axis, like Bresenham's. `origin` must be on the map.
+    """
+    if len(ends) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    res = costmap.resolution
+    lo = np.array([costmap.origin_x, costmap.origin_y])
+    hi = lo + np.array(costmap.size_in_meters) - 1e-6 * res
+    d = ends - origin
+    # Largest t in [0, 1] keeping origin + t*d inside [lo, hi] on both axes.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_hi = np.where(d > 0, (hi - origin) / d, np.inf)
+        t_lo = np.where(d < 0, (lo - origin) / d, np.inf)
+    t = np.clip(np.minimum(t_hi, t_lo).min(axis=1), 0.0, 1.0)
+    ends = origin + t[:, None] * d
+    starts_t = np.einsum("ij,ij->i", starts - origin, d) / np.maximum(
+        np.einsum("ij,ij->i", d, d), 1e-300
+    )
+    valid = starts_t <= t  # the start is still before the (clipped) end
+    # Continuous cell coordinates, sampled at most one cell apart along the major axis
+    # (so no cell on the line is skipped), then floored: a DDA over every beam at once.
+    f0 = (starts[valid] - lo) / res
+    f1 = (ends[valid] - lo) / res
+    span = np.abs(f1 - f0).max(axis=1)
+    n = np.maximum(
+        np.ceil(span).astype(np.int64),
+        np.abs(np.floor(f1) - np.floor(f0)).max(axis=1).astype(np.int64),
+    )
+    total = int((n + 1).sum())
+    ray = np.repeat(np.arange(len(n)), n + 1)
+    k = np.arange(total) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)
+    frac = k / np.maximum(n[ray], 1)
+    cells = np.floor(f0[ray] + frac[:, None] * (f1 - f0)[ray]).astype(np.int64)
+    inside = (
+        (cells[:, 0] >= 0)
+        & (cells[:, 0] < costmap.size_x)
+        & (cells[:, 1] >= 0)
+        & (cells[:, 1] < costmap.size_y)
+    )
+    return cells[inside, 1], cells[inside, 0]
+
+
+@register("costmap_layer", "nav2_costmap_2d::ObstacleLayer", aliases=("btnav/ObstacleLayer",))
+class ObstacleLayer(CostmapLayer):
+    """Marks scan hits as LETHAL and clears the cells the beams pass through."""
+
+    Params = ObstacleLayerParams
+
+    def __init__(self, name: str, params: ObstacleLayerParams | None = None) -> None:
+        super().__init__(name, params)
+        self.params: ObstacleLayerParams
+        self.buffers: dict[str, list[Observation]] = {n: [] for n in self.params.sources}
+        self.last_reading: dict[str, float] = {}
+        self._footprint_cells: tuple[NDArray[np.int64], NDArray[np.int64]] | None = None
+
+    def on_params_changed(self) -> None:
+        self.buffers = {n: self.buffers.get(n, []) for n in self.params.sources}
+
+    # -- observations ------------------------------------------------------------------
+
+    def laser_sources(self) -> list[str]:
+        return [n for n, s in self.params.sources.items() if s.data_type == "LaserScan"]
+
+    def receive_scan(
+        self,
+        scan: LaserScan,
+        frame_tree: FrameTree,
+        source: str | None = None,
+        global_frame: str | None = None,
+    ) -> None:
+        """Buffer a scan for `source` (every LaserScan source when None), in the global frame."""
+        names = [source] if source is not None else self.laser_sources()
+        target = global_frame or (self.layered.global_frame if self.layered else "map")
+        for name in names:
+            if name not in self.params.sources:
+                raise KeyError(f"layer '{self.name}' has no observation source '{name}'")
+            cfg = self.params.sources[name]
+            frame = cfg.sensor_frame or scan.frame_id
+            try:
+                pose = frame_tree.lookup(target, frame)
+            except FrameError as err:
+                raise err.located(key=f"{self.name}.{name}") from None
+            obs = scan_observation(scan, pose, cfg)
+            buf = self.buffers.setdefault(name, [])
+            buf.insert(0, obs)
+            keep = cfg.observation_persistence
+            if keep == 0.0:
+                del buf[1:]
+            else:
+                buf[:] = [o for o in buf if o.stamp >= obs.stamp - keep]
+            self.last_reading[name] = scan.stamp
+
+    def _observations(self, kind: str) -> list[Observation]:
+        out = []
+        for name, buf in self.buffers.items():
+            cfg = self.params.sources.get(name)
+            if cfg is not None and getattr(cfg, kind):
+                out.extend(buf)
+        return out
+
+    def is_current(self, now: float) -> bool:
+        """Whether every source with an `expected_update_rate` reported in time (Nav2's isCurrent)."""
+        for name, cfg in self.params.sources.items():
+            if cfg.expected_update_rate > 0.0:
+                last = self.last_reading.get(name)
+                if last is None or now - last > cfg.expected_update_rate:
+                    return False
+        return True
+
+    # -- the two passes ---------------------------------------------------------------------
+
+    def marks_allowed(self) -> bool:
+        return True
+
+    def update_bounds(self, robot: Pose2D, bounds: Bounds) -> None:
+        if self.layered is None:
+            return
+        if self.layered.rolling_window:
+            self.match_origin()
+        if not self.enabled:
+            return
+        grid = self.grid
+        lo = np.array([grid.origin_x, grid.origin_y])
+        hi = lo + np.array(grid.size_in_meters)
+        for obs in self._observations("clearing"):
+            if np.any(obs.origin < lo) or np.any(obs.origin >= hi):
+                continue  # Nav2: a sensor origin off the map cannot raytrace
+            ys, xs = trace_cells(grid, obs.origin, obs.ray_starts, obs.ray_ends)
+            grid.costs[ys, xs] = FREE_SPACE
+            if len(ys):
+                bounds.touch_points(obs.ray_ends)
+                bounds.touch(float(obs.origin[0]), float(obs.origin[1]))
+        if self.marks_allowed():
+            for obs in self._observations("marking"):
+                m, inside = grid.world_to_map(obs.marks)
+                grid.costs[m[inside, 1], m[inside, 0]] = LETHAL_OBSTACLE
+                bounds.touch_points(obs.marks[inside])
+        if self.params.footprint_clearing_enabled:
+            fp = transform_footprint(robot, self.layered.footprint)
+            self._footprint_cells = polygon_cells(grid, fp)
+            bounds.touch_points(fp)
+
+    def update_costs(self, master: Costmap2D, window: Window) -> None:
+        if not self.enabled or window.empty:
+            return
+        if self.params.footprint_clearing_enabled and self._footprint_cells is not None:
+            ys, xs = self._footprint_cells
+            self.grid.costs[ys, xs] = FREE_SPACE
+        self.combine(master, window, self.params.combination_method)
+
+    def reset(self) -> None:
+        """Forget every obstacle and every buffered scan (btnav: a cleared costmap stays
+        clear until a new scan arrives; Nav2 re-applies the last buffered one)."""
+        super().reset()
+        for buf in self.buffers.values():
+            buf.clear()
+
+
+class VoxelLayerParams(ObstacleLayerParams):
+    z_voxels: int = Field(10, ge=1, le=16)
+    origin_z: float = 0.0
+    z_resolution: float = Field(0.2, gt=0.0, description="m")
+    unknown_threshold: int = ignored(
+        15, "btnav's scans are planar: a column is free once a beam crosses it", ge=0
+    )
+    mark_threshold: int = Field(0, ge=0, description="a planar scan marks one voxel per column")
+    publish_voxel_map: bool = ignored(False, Why.VIZ)
+
+
+@register("costmap_layer", "nav2_costmap_2d::VoxelLayer", aliases=("btnav/VoxelLayer",))
+class VoxelLayer(ObstacleLayer):
+    """Nav2's 3D obstacle layer, flattened: a planar lidar fills one voxel per column.
+
+    It behaves as the obstacle layer and accepts the voxel keys. As in Nav2, a column
+    is marked when it has more than `mark_threshold` marked voxels, so a planar scan
+    marks only with `mark_threshold: 0` (Nav2's default and its params file's value).
+    """
+
+    Params = VoxelLayerParams
+
+    def marks_allowed(self) -> bool:
+        return self.params.mark_threshold < 1  # type: ignore[attr-defined]
