@@ -1,0 +1,11 @@
+"""dwb_critics: one critic per module, each registered as kind `critic` under Nav2's name."""
+
+from . import (  # noqa: F401
+    base_obstacle,
+    goal_align,
+    goal_dist,
+    oscillation,
+    path_align,
+    path_dist,
+    rotate_to_goal,
+)

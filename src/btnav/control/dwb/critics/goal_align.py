@@ -1,0 +1,26 @@
+"""dwb_critics::GoalAlign: GoalDist of a point ahead of the trajectory's end, to a goal pushed
+`forward_point_distance` further along the robot-to-goal direction: faces the robot to the goal."""
+
+from __future__ import annotations
+
+import math
+
+from ....plugins import register
+from .goal_dist import GoalDistCritic
+
+
+@register("critic", "dwb_critics::GoalAlign", aliases=["dwb_critics::GoalAlignCritic"])
+class GoalAlignCritic(GoalDistCritic):
+    stop_on_failure = False
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.forward_distance = self.params.forward_point_distance
+
+    def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
+        d = self.params.forward_point_distance
+        a = math.atan2(goal.y - pose.y, goal.x - pose.x)
+        shifted = plan.copy()
+        shifted[-1, 0] += d * math.cos(a)
+        shifted[-1, 1] += d * math.sin(a)
+        return super().prepare(pose, velocity, goal, shifted, costmap)

@@ -1,0 +1,100 @@
+"""dwb_critics::Oscillation: forbid flipping the sign of a velocity until the robot has moved.
+
+After the chosen command reverses a direction (forward then backward, left then
+right turn), commands with the opposite sign are illegal until the robot has
+moved `oscillation_reset_dist` or turned `oscillation_reset_angle` from where the
+flip happened (or `oscillation_reset_time` passed, when >= 0). The rotation
+direction is only tracked while the linear speed is below `x_only_threshold`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ....core.geometry import angle_diff
+from ....plugins import register
+from ..critic import TrajectoryCritic
+
+
+class _Trend:
+    def __init__(self) -> None:
+        self.reset()
+
+    def reset(self) -> None:
+        self.sign = 0
+        self.positive_only = False
+        self.negative_only = False
+
+    def update(self, v: float) -> bool:
+        flag = False
+        if v < 0.0:
+            if self.sign > 0:
+                self.negative_only = flag = True
+            self.sign = -1
+        elif v > 0.0:
+            if self.sign < 0:
+                self.positive_only = flag = True
+            self.sign = 1
+        return flag
+
+    def oscillating(self, v: np.ndarray) -> np.ndarray:
+        return (self.positive_only & (v < 0.0)) | (self.negative_only & (v > 0.0))
+
+    @property
+    def has_flag(self) -> bool:
+        return self.positive_only or self.negative_only
+
+
+@register("critic", "dwb_critics::Oscillation", aliases=["dwb_critics::OscillationCritic"])
+class OscillationCritic(TrajectoryCritic):
+    class Params(TrajectoryCritic.Params):
+        oscillation_reset_dist: float = 0.05
+        oscillation_reset_angle: float = 0.2
+        oscillation_reset_time: float = -1.0
+        x_only_threshold: float = 0.05
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.reset()
+
+    def reset(self) -> None:
+        self.x, self.y, self.theta = _Trend(), _Trend(), _Trend()
+        self.prev_stationary = None
+        self.prev_linear = 0.0
+        self.cycles_since_flag = 0
+
+    def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
+        self.pose = pose
+        return True
+
+    def debrief(self, cmd, pose) -> None:
+        flagged = self.x.update(cmd.linear_x) | self.y.update(cmd.linear_y)
+        if abs(cmd.linear_x) < self.params.x_only_threshold:
+            flagged |= self.theta.update(cmd.angular_z)
+        self.prev_linear = cmd.linear_x
+        if flagged:
+            self.prev_stationary = pose
+            self.cycles_since_flag = 0
+        if self.prev_stationary is not None and (
+            self.x.has_flag or self.y.has_flag or self.theta.has_flag
+        ):
+            p = self.params
+            moved = math.hypot(pose.x - self.prev_stationary.x, pose.y - self.prev_stationary.y)
+            turned = abs(angle_diff(pose.yaw, self.prev_stationary.yaw))
+            self.cycles_since_flag += 1
+            timed = (
+                p.oscillation_reset_time >= 0.0
+                and self.cycles_since_flag * 0.05 > p.oscillation_reset_time
+            )
+            if moved > p.oscillation_reset_dist or turned > p.oscillation_reset_angle or timed:
+                self.x.reset()
+                self.y.reset()
+                self.theta.reset()
+
+    def score(self, trajs, costmap):
+        v = trajs.velocity
+        bad = self.x.oscillating(v[:, 0]) | self.y.oscillating(v[:, 1])
+        bad |= self.theta.oscillating(v[:, 2]) & (np.abs(v[:, 0]) < self.params.x_only_threshold)
+        return np.where(bad, np.inf, 0.0)

@@ -1,0 +1,268 @@
+"""dwb_core::DWBLocalPlanner: the Dynamic Window controller, vectorised over all samples.
+
+Each cycle: prune the plan around the robot, sample velocities in the dynamic
+window, simulate every sample (one (S, T, 3) array), let every critic score all
+trajectories at once, drop the illegal ones (inf: hitting a lethal/inscribed
+cell, leaving the costmap, oscillating, ...) and command the sample with the
+lowest weighted sum. Critic `<Name>.<key>` params are written either flat, as
+ROS writes them (`PathAlign.scale: 32.0`), or as a nested section.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field, model_validator
+
+from ... import plugins as registry
+from ...core.errors import PluginError
+from ...core.geometry import Pose2D
+from ...core.messages import Path, Twist
+from ...costmap.costmap_2d import Costmap2D
+from ...params.schema import Names, Why, ignored, one_of
+from ...plugins import register
+from ..controller import Controller
+from ..exceptions import InvalidPath, NoValidControl
+from ..path_handler import closest_index, integrated_index
+from . import critics as _critics  # noqa: F401  (registers the built-in critics)
+from .critic import Trajectories, TrajectoryCritic
+from .trajectory_generator import sample_velocities, simulate
+
+#: Nav2's documented critic list and scales for DWB.
+DEFAULT_CRITICS = [
+    "RotateToGoal",
+    "Oscillation",
+    "BaseObstacle",
+    "GoalAlign",
+    "PathAlign",
+    "PathDist",
+    "GoalDist",
+]
+DEFAULT_SCALES = {
+    "RotateToGoal": 32.0,
+    "Oscillation": 1.0,
+    "BaseObstacle": 0.02,
+    "GoalAlign": 24.0,
+    "PathAlign": 32.0,
+    "PathDist": 32.0,
+    "GoalDist": 24.0,
+}
+DEFAULT_FORWARD_POINT = {"GoalAlign": 0.1, "PathAlign": 0.1}
+
+
+def critic_class(name: str, section: Mapping[str, Any] | None = None) -> type[TrajectoryCritic]:
+    """Nav2's resolution: `<Name>.class` if given; a bare name gets `dwb_critics::` (and `Critic`)."""
+    cls_name = str((section or {}).get("class", name))
+    candidates = [cls_name]
+    if "::" not in cls_name and "/" not in cls_name:
+        candidates = [f"dwb_critics::{cls_name}", f"dwb_critics::{cls_name}Critic"]
+    for c in candidates:
+        if registry.is_registered("critic", c):
+            return registry.lookup("critic", c)  # type: ignore[no-any-return]
+    return registry.lookup("critic", candidates[0])  # raises with close names
+
+
+class DWBParams(Controller.Params):
+    critics: Names = Field(default_factory=lambda: list(DEFAULT_CRITICS))
+    critic_params: dict[str, Any] = Field(default_factory=dict)
+    trajectory_generator_name: one_of(  # type: ignore[valid-type]
+        "dwb_plugins::StandardTrajectoryGenerator",
+        "dwb_plugins::LimitedAccelGenerator",
+        "dwb_plugins/StandardTrajectoryGenerator",
+        "dwb_plugins/LimitedAccelGenerator",
+    ) = "dwb_plugins::StandardTrajectoryGenerator"
+    # Kinematics (dwb_plugins::KinematicParameters). Nav2's code defaults these to 0 (the
+    # robot would not move); btnav takes the values Nav2's documentation configures.
+    min_vel_x: float = 0.0
+    min_vel_y: float = 0.0
+    max_vel_x: float = 0.26
+    max_vel_y: float = 0.0
+    max_vel_theta: float = Field(1.0, ge=0.0)
+    min_speed_xy: float = 0.0
+    max_speed_xy: float = 0.26
+    min_speed_theta: float = 0.0
+    acc_lim_x: float = 2.5
+    acc_lim_y: float = 0.0
+    acc_lim_theta: float = 3.2
+    decel_lim_x: float = -2.5
+    decel_lim_y: float = 0.0
+    decel_lim_theta: float = -3.2
+    # Sampling (dwb_plugins::XYThetaIterator).
+    vx_samples: int = Field(20, ge=1)
+    vy_samples: int = Field(5, ge=1)
+    vtheta_samples: int = Field(20, ge=1)
+    # Simulation (dwb_plugins::StandardTrajectoryGenerator).
+    sim_time: float = Field(1.7, gt=0.0)
+    discretize_by_time: bool = False
+    time_granularity: float = Field(0.5, gt=0.0)
+    linear_granularity: float = Field(0.05, gt=0.0)
+    angular_granularity: float = Field(0.025, gt=0.0)
+    include_last_point: bool = True
+    limit_vel_cmd_in_traj: bool = ignored(False, "btnav commands the sampled velocity")
+    # Goal handling (read by RotateToGoal, as Nav2's critics read them from the plugin section).
+    xy_goal_tolerance: float = Field(0.25, ge=0.0)
+    trans_stopped_velocity: float = Field(0.25, ge=0.0)
+    path_length_tolerance: float = Field(1.0, ge=0.0)
+    stateful: bool = ignored(True, "goal checking is the goal checker's job in btnav")
+    # Plan pruning (DWB's own, from before Nav2's path handler).
+    prune_plan: bool = True
+    prune_distance: float = Field(2.0, gt=0.0)
+    forward_prune_distance: float = Field(2.0, gt=0.0)
+    shorten_transformed_plan: bool = True
+    short_circuit_trajectory_evaluation: bool = ignored(
+        True, "btnav scores every trajectory at once (vectorised); the choice is the same"
+    )
+    default_critic_namespaces: list[str] = ignored([], "critics are found by their Nav2 names")
+    debug_trajectory_details: bool = ignored(False, Why.VIZ)
+    publish_evaluation: bool = ignored(True, Why.VIZ)
+    publish_global_plan: bool = ignored(True, Why.VIZ)
+    publish_transformed_plan: bool = ignored(True, Why.VIZ)
+    publish_local_plan: bool = ignored(True, Why.VIZ)
+    publish_trajectories: bool = ignored(True, Why.VIZ)
+    publish_cost_grid_pc: bool = ignored(False, Why.VIZ)
+    marker_lifetime: float = ignored(0.1, Why.VIZ)
+    transform_tolerance: float = ignored(0.2, Why.TF)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _gather_critics(cls, data: Any) -> Any:
+        if not isinstance(data, Mapping):
+            return data
+        if "critic_params" in data:
+            raise ValueError("unknown key 'critic_params'")
+        names = data.get("critics", DEFAULT_CRITICS)
+        if not isinstance(names, list):
+            return data
+        out: dict[str, Any] = {}
+        sections: dict[str, dict[str, Any]] = {n: {} for n in names if isinstance(n, str)}
+        for key, value in data.items():
+            head, dot, tail = str(key).partition(".")
+            if dot and head in sections:
+                sections[head][tail] = value
+            elif head in sections and isinstance(value, Mapping):
+                sections[head].update(value)
+            elif dot:
+                raise ValueError(f"'{key}': '{head}' is not in the critics list")
+            else:
+                out[key] = value
+        out["critic_params"] = sections
+        return out
+
+    @model_validator(mode="after")
+    def _validate_critics(self) -> DWBParams:
+        built = {}
+        for name in self.critics:
+            raw = dict(self.critic_params.get(name, {}))
+            try:
+                cls = critic_class(name, raw)
+            except PluginError as exc:
+                raise ValueError(str(exc)) from None
+            raw.pop("class", None)
+            raw.setdefault("scale", DEFAULT_SCALES.get(name, 1.0))
+            if name in DEFAULT_FORWARD_POINT and "forward_point_distance" not in raw:
+                raw["forward_point_distance"] = DEFAULT_FORWARD_POINT[name]
+            try:
+                built[name] = cls.Params.model_validate(raw)
+            except Exception as exc:
+                raise ValueError(f"critic '{name}': {exc}") from None
+        object.__setattr__(self, "critic_params", built)
+        return self
+
+
+@register("controller", "dwb_core::DWBLocalPlanner")
+class DWBLocalPlanner(Controller):
+    Params = DWBParams
+    params: DWBParams
+
+    def __init__(self, name: str = "FollowPath", params: DWBParams | None = None) -> None:
+        super().__init__(name, params if params is not None else DWBParams())
+        self.critics: list[TrajectoryCritic] = []
+        for cname in self.params.critics:
+            cls = critic_class(cname)
+            self.critics.append(cls(cname, self.params.critic_params[cname], self.params))
+        self.max_vel_x = self.params.max_vel_x
+        self._plan = np.zeros((0, 3))
+        self.control_duration = 0.05
+        self.last_trajectories: Trajectories | None = None
+        self.last_scores: NDArray[np.float64] | None = None
+
+    def set_plan(self, path: Path) -> None:
+        poses = np.asarray(path.poses, float).reshape(-1, 3)
+        if len(poses) == 0:
+            raise InvalidPath("Received plan with zero length")
+        self._plan = poses
+        for c in self.critics:
+            c.reset()
+
+    def reset(self) -> None:
+        for c in self.critics:
+            c.reset()
+
+    def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
+        base = self.params.max_vel_x
+        if speed_limit <= 0.0:
+            self.max_vel_x = base
+        else:
+            self.max_vel_x = base * speed_limit / 100.0 if percentage else speed_limit
+
+    def _local_plan(self, pose: Pose2D, costmap: Costmap2D) -> NDArray[np.float64]:
+        p = self.params
+        if len(self._plan) == 0:
+            raise InvalidPath("Received plan with zero length")
+        extent = max(costmap.size_in_meters) / 2.0
+        closest = closest_index(self._plan, pose.x, pose.y, max(p.prune_distance, extent))
+        if p.prune_plan:
+            self._plan = self._plan[closest:]
+            closest = 0
+        end = integrated_index(self._plan, closest, p.forward_prune_distance)
+        if not p.shorten_transformed_plan:
+            end = len(self._plan)
+        local = self._plan[closest:end]
+        _, inside = costmap.world_to_map(local[:, :2])
+        off = np.flatnonzero(~inside)
+        if off.size:
+            local = local[: max(int(off[0]), 1)]
+        return local
+
+    def compute_velocity_commands(
+        self, pose: Pose2D, velocity: Twist, costmap: Costmap2D, goal_checker: Any = None
+    ) -> Twist:
+        p = self.params
+        plan = self._local_plan(pose, costmap)
+        goal = Pose2D.from_array(self._plan[-1])
+        for c in self.critics:
+            if not c.prepare(pose, velocity, goal, plan, costmap):
+                raise NoValidControl(f"A scoring function ({c.name}) failed to prepare")
+        limited = p.trajectory_generator_name.endswith("LimitedAccelGenerator")
+        acc_time = self.control_duration if limited else p.sim_time
+        kin = (
+            p.model_copy(update={"max_vel_x": self.max_vel_x})
+            if self.max_vel_x != p.max_vel_x
+            else p
+        )
+        samples = sample_velocities(kin, velocity, acc_time)
+        if len(samples) == 0:
+            raise NoValidControl("No valid velocity samples in the dynamic window")
+        trajs = simulate(kin, pose, velocity, samples, limited)
+        total = np.zeros(len(samples))
+        for c in self.critics:
+            scale = c.get_scale(costmap)
+            raw = c.score(trajs, costmap)
+            illegal = ~np.isfinite(raw)
+            total = np.where(illegal, np.inf, total + scale * np.where(illegal, 0.0, raw))
+        self.last_trajectories, self.last_scores = trajs, total
+        best = int(np.argmin(total))
+        if not math.isfinite(total[best]):
+            raise NoValidControl(f"No valid trajectories out of {len(samples)}!")
+        v = samples[best]
+        cmd = Twist(linear_x=float(v[0]), linear_y=float(v[1]), angular_z=float(v[2]))
+        for c in self.critics:
+            c.debrief(cmd, pose)
+        return cmd
+
+
+__all__ = ["DEFAULT_CRITICS", "DWBLocalPlanner", "DWBParams"]

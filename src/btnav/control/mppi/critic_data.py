@@ -1,0 +1,133 @@
+"""What every critic sees in one optimisation iteration (mppi::CriticData), plus shared lookups.
+
+Batch arrays are `(batch_size, time_steps)` float32 views. Lazily computed and
+shared between critics (as Nav2 caches them in CriticData): the path point the
+batch reaches furthest, and which path points are in collision.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
+from ...costmap.costmap_2d import Costmap2D
+
+F32 = NDArray[np.float32]
+
+
+@dataclass
+class CriticData:
+    # State: velocities the rollouts actually follow (vx[:, 0] is the robot's current speed)
+    # and the sampled controls after constraints (cvx).
+    vx: F32
+    vy: F32
+    wz: F32
+    cvx: F32
+    cvy: F32
+    cwz: F32
+    # Rollouts in the costmap's frame.
+    x: F32
+    y: F32
+    yaws: F32
+    #: (P, 3) pruned path (x, y, yaw) in the costmap's frame, from the point nearest the robot.
+    path: NDArray[np.float32]
+    #: The global goal (x, y, yaw): the last pose of the whole plan.
+    goal: NDArray[np.float64]
+    robot: NDArray[np.float64]  # x, y, yaw
+    robot_speed: tuple[float, float, float]  # vx, vy, wz
+    costmap: Costmap2D
+    model_dt: float
+    costs: F32
+    is_holonomic: bool = False
+    goal_checker: Any = None
+    vx_max: float = 0.5
+    vx_min: float = -0.35
+    vy_max: float = 0.5
+    wz_max: float = 1.9
+    min_turning_r: float | None = None
+    fail_flag: bool = False
+    _furthest: int | None = field(default=None, repr=False)
+    _valid: NDArray[np.bool_] | None = field(default=None, repr=False)
+    _goal_dist: float | None = field(default=None, repr=False)
+
+    @property
+    def batch_size(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def time_steps(self) -> int:
+        return int(self.x.shape[1])
+
+    def distance_to_goal(self) -> float:
+        """Robot to the global goal (what `threshold_to_consider` is compared with)."""
+        if self._goal_dist is None:
+            self._goal_dist = float(np.hypot(*(self.goal[:2] - self.robot[:2])))
+        return self._goal_dist
+
+    def furthest_reached_path_point(self) -> int:
+        """The path index nearest to the end of the rollout that gets furthest along the path."""
+        if self._furthest is None:
+            px, py = self.path[:, 0], self.path[:, 1]
+            ex, ey = self.x[:, -1], self.y[:, -1]
+            # (B, P) squared distances from each rollout's end to each path point.
+            d = (ex[:, None] - px[None, :]) ** 2 + (ey[:, None] - py[None, :]) ** 2
+            self._furthest = int(np.argmin(d, axis=1).max()) if len(px) else 0
+        return self._furthest
+
+    def path_points_valid(self) -> NDArray[np.bool_]:
+        """Per path point: not in collision on the costmap (the last point is always valid)."""
+        if self._valid is None:
+            costs = cell_costs(self.costmap, self.path[:, 0], self.path[:, 1])
+            valid = ~in_collision(
+                costs, consider_footprint=False, tracking_unknown=tracking_unknown(self.costmap)
+            )
+            if len(valid):
+                valid[-1] = True
+            self._valid = valid
+        return self._valid
+
+
+def tracking_unknown(costmap: Costmap2D) -> bool:
+    """Whether NO_INFORMATION cells are traversable (Nav2: the layered costmap tracks unknown space)."""
+    flag = getattr(costmap, "track_unknown_space", None)
+    if flag is not None:
+        return bool(flag)
+    return int(costmap.default_value) == NO_INFORMATION
+
+
+def cell_costs(costmap: Costmap2D, x: NDArray[Any], y: NDArray[Any]) -> NDArray[np.uint8]:
+    """Costs of the cells under world points of any shape, by one fancy-indexing gather.
+
+    Points off the map read NO_INFORMATION.
+    """
+    res = np.float32(1.0 / costmap.resolution)
+    mx = np.floor((x - np.float32(costmap.origin_x)) * res).astype(np.int32)
+    my = np.floor((y - np.float32(costmap.origin_y)) * res).astype(np.int32)
+    w, h = costmap.size_x, costmap.size_y
+    inside = (mx >= 0) & (mx < w) & (my >= 0) & (my < h)
+    flat = costmap.costs.reshape(-1)
+    idx = np.where(inside, my * w + mx, 0)
+    out = flat[idx]
+    out[~inside] = NO_INFORMATION
+    return out
+
+
+def in_collision(
+    costs: NDArray[np.uint8], *, consider_footprint: bool, tracking_unknown: bool
+) -> NDArray[np.bool_]:
+    """Nav2's point collision rule: lethal; inscribed for a circular robot; unknown unless tracked.
+
+    btnav checks the robot as a circle only: with `consider_footprint` the inscribed
+    cost is still treated as collision (the centre in an inscribed cell means a round
+    footprint touches an obstacle); a polygon footprint is not swept.
+    """
+    del consider_footprint  # circle only, see the docstring
+    hit = costs >= INSCRIBED_INFLATED_OBSTACLE
+    hit &= costs <= LETHAL_OBSTACLE
+    if not tracking_unknown:
+        hit |= costs == NO_INFORMATION
+    return hit

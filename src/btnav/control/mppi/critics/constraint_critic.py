@@ -1,0 +1,41 @@
+"""ConstraintCritic: penalises rollout velocities outside the kinematic limits."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field
+
+from ....plugins import register
+from ..critic_data import CriticData
+from ..critic_function import NAMESPACE, CriticFunction
+
+
+@register("critic", NAMESPACE + "ConstraintCritic")
+class ConstraintCritic(CriticFunction):
+    """Sum over the horizon of how far vx leaves [vx_min, vx_max], times model_dt.
+
+    With an Ackermann model, also how far the turning radius |vx / wz| falls below
+    `min_turning_r`. The motion model already clips sampled controls, so this
+    mostly acts while the robot's current speed is beyond the limits.
+    """
+
+    class Params(CriticFunction.Params):
+        cost_weight: float = Field(4.0, ge=0.0)
+
+    def score(self, data: CriticData) -> None:
+        if not self.enabled:
+            return
+        vx = data.vx
+        over = np.maximum(vx - np.float32(data.vx_max), 0) + np.maximum(
+            np.float32(data.vx_min) - vx, 0
+        )
+        if data.is_holonomic:
+            vy = np.abs(data.vy)
+            over = over + np.maximum(vy - np.float32(data.vy_max), 0)
+        if data.min_turning_r is not None:
+            wz = np.abs(data.wz)
+            radius = np.abs(vx) / np.maximum(wz, np.float32(1e-6))
+            over = over + np.where(
+                wz > 1e-6, np.maximum(np.float32(data.min_turning_r) - radius, 0), 0
+            ).astype(np.float32)
+        self.add(data, over.sum(axis=1) * np.float32(data.model_dt))

@@ -1,0 +1,72 @@
+"""CostCritic: keeps rollouts off lethal cells and out of high-cost space, from costmap values."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field
+
+from ....params.schema import Why, ignored
+from ....plugins import register
+from ..critic_data import CriticData, cell_costs, in_collision, tracking_unknown
+from ..critic_function import NAMESPACE, CriticFunction
+
+
+@register("critic", NAMESPACE + "CostCritic")
+class CostCritic(CriticFunction):
+    """Cost of the cells under every `trajectory_point_step`-th rollout point, in one gather.
+
+    Per rollout: a point in collision makes the whole rollout cost `collision_cost`;
+    otherwise each point at or above `near_collision_cost` adds `critical_cost`, and
+    (farther than `near_goal_distance` from the goal) every other point adds its cell
+    cost. The sum is scaled by `cost_weight / 254` per evaluated point, as Nav2 does, so
+    the weights of Nav2's params mean the same. When every rollout collides, the
+    iteration fails (the controller soft-resets and retries, then gives up).
+
+    `consider_footprint`: btnav checks a circular robot at its centre only; see
+    `critic_data.in_collision`.
+    """
+
+    class Params(CriticFunction.Params):
+        cost_weight: float = Field(3.81, ge=0.0)
+        consider_footprint: bool = False
+        collision_cost: float = Field(1000000.0, ge=0.0)
+        near_collision_cost: int = Field(253, ge=0, le=255)
+        critical_cost: float = Field(300.0, ge=0.0)
+        near_goal_distance: float = Field(0.5, ge=0.0)
+        trajectory_point_step: int = Field(2, ge=1)
+        inflation_layer_name: str = ignored(
+            "", "btnav's CostCritic reads the costmap's final costs, not a named layer"
+        )
+        # Nav2 Humble keys of the CostCritic, no longer read by Nav2 either.
+        inflation_radius: float = ignored(
+            0.55, "a Humble-only key: Nav2 now reads the costmap", ge=0.0
+        )
+        cost_scaling_factor: float = ignored(
+            10.0, "a Humble-only key: Nav2 now reads the costmap", ge=0.0
+        )
+        trajectory_visualization: bool = ignored(False, Why.VIZ)
+
+    def score(self, data: CriticData) -> None:
+        if not self.enabled:
+            return
+        p = self.params
+        step = p.trajectory_point_step
+        xs, ys = data.x[:, ::step], data.y[:, ::step]
+        costs = cell_costs(data.costmap, xs, ys)
+        collide_pt = in_collision(
+            costs,
+            consider_footprint=p.consider_footprint,
+            tracking_unknown=tracking_unknown(data.costmap),
+        )
+        collide = collide_pt.any(axis=1)
+        near_goal = data.distance_to_goal() < p.near_goal_distance
+        critical = costs >= p.near_collision_cost
+        if near_goal:
+            point_cost = np.where(critical, np.float32(p.critical_cost), np.float32(0.0))
+        else:
+            point_cost = np.where(critical, np.float32(p.critical_cost), costs.astype(np.float32))
+        raw = point_cost.sum(axis=1, dtype=np.float32)
+        raw[collide] = np.float32(p.collision_cost)
+        data.fail_flag = data.fail_flag or bool(collide.all())
+        scale = np.float32(1.0 / (254.0 * xs.shape[1]))
+        self.add(data, raw * scale)

@@ -1,0 +1,36 @@
+"""PathFollowCritic: drives progress along the path (what moves the robot forward)."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field
+
+from ....plugins import register
+from ..critic_data import CriticData
+from ..critic_function import NAMESPACE, CriticFunction
+
+
+@register("critic", NAMESPACE + "PathFollowCritic")
+class PathFollowCritic(CriticFunction):
+    """Distance from each rollout's end to a path point ahead of the furthest one reached.
+
+    The target is `offset_from_furthest` points past the path point that the best
+    rollout reaches, skipped forward past points in collision. Off within
+    `threshold_to_consider` of the goal, where GoalCritic takes over.
+    """
+
+    class Params(CriticFunction.Params):
+        cost_weight: float = Field(5.0, ge=0.0)
+        threshold_to_consider: float = Field(1.4, ge=0.0)
+        offset_from_furthest: int = Field(6, ge=0)
+
+    def score(self, data: CriticData) -> None:
+        n = len(data.path)
+        if not self.enabled or n < 2 or data.distance_to_goal() < self.params.threshold_to_consider:
+            return
+        idx = min(data.furthest_reached_path_point() + self.params.offset_from_furthest, n - 1)
+        valid = data.path_points_valid()
+        while idx < n - 1 and not valid[idx]:
+            idx += 1
+        px, py = data.path[idx, 0], data.path[idx, 1]
+        self.add(data, np.hypot(data.x[:, -1] - px, data.y[:, -1] - py))

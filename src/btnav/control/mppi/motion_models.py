@@ -1,0 +1,147 @@
+"""MPPI's motion models: which controls exist and how acceleration limits shape the rollouts.
+
+Controls and velocities are (time_steps, channels, batch_size) float32, channels
+`vx, wz` (and `vy` for a holonomic model), so one time step of every channel is a
+contiguous block and the step-by-step acceleration loop costs one ufunc call per
+operation for all channels at once. The optimizer hands critics (batch_size,
+time_steps) views.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+F32 = NDArray[np.float32]
+
+VX, WZ, VY = 0, 1, 2  # channel order
+
+
+@dataclass
+class ControlConstraints:
+    vx_max: float = 0.5
+    vx_min: float = -0.35
+    vy_max: float = 0.5
+    wz_max: float = 1.9
+    ax_max: float = 3.0
+    ax_min: float = -3.0
+    ay_max: float = 3.0
+    ay_min: float = -3.0
+    az_max: float = 3.5
+
+
+class MotionModel:
+    """Differential drive by default: vx and wz, no lateral speed."""
+
+    holonomic = False
+    min_turning_r: float | None = None
+
+    def __init__(self, constraints: ControlConstraints, model_dt: float) -> None:
+        self.c = constraints
+        self.dt = model_dt
+
+    @property
+    def channels(self) -> int:
+        return 3 if self.holonomic else 2
+
+    def _limits(self) -> tuple[F32, F32]:
+        c = self.c
+        lo = [c.vx_min, -c.wz_max, -c.vy_max][: self.channels]
+        hi = [c.vx_max, c.wz_max, c.vy_max][: self.channels]
+        return np.array(lo, np.float32)[:, None], np.array(hi, np.float32)[:, None]
+
+    def apply_constraints(self, u: F32) -> None:
+        """Clip controls (T, C, B) to the velocity limits, in place."""
+        lo, hi = self._limits()
+        np.clip(u, lo, hi, out=u)
+
+    def predict(self, u: F32, v: F32, speed: F32) -> None:
+        """Velocities the rollouts follow, in place in `v` (T, C, B).
+
+        v[0] is the robot's current `speed` (per channel); v[i] is control u[i-1] as far
+        as the acceleration limits allow from v[i-1]: speeding up away from zero is
+        limited by ax_max, slowing towards zero by ax_min, in either direction (az_max
+        both ways for wz). The controls are then replaced by what was achievable
+        (u[i-1] = v[i]), so the softmax averages feasible sequences, as Nav2's does.
+        """
+        c, dt = self.c, np.float32(self.dt)
+        ch = self.channels
+        up = np.array([c.ax_max, c.az_max, c.ay_max][:ch], np.float32)[:, None] * dt
+        down = np.array([c.ax_min, -c.az_max, c.ay_min][:ch], np.float32)[:, None] * dt
+        v[0] = speed[:, None]
+        tmp = np.empty_like(v[0])
+        if np.allclose(up, -down):
+            neg = -up
+            for i in range(1, u.shape[0]):
+                np.subtract(u[i - 1], v[i - 1], out=tmp)
+                np.minimum(tmp, up, out=tmp)
+                np.maximum(tmp, neg, out=tmp)
+                np.add(v[i - 1], tmp, out=v[i])
+        else:
+            for i in range(1, u.shape[0]):
+                prev = v[i - 1]
+                pos = prev > 0
+                lo = prev + np.where(pos, down, -up)
+                hi = prev + np.where(pos, up, -down)
+                np.clip(u[i - 1], lo, hi, out=v[i])
+        u[:-1] = v[1:]
+
+
+def predict_one(
+    model: MotionModel, cs: NDArray[np.float32], speed: tuple[float, float, float]
+) -> tuple[list[float], list[float], list[float]]:
+    """The same acceleration limits for one control sequence (T, 3: vx, vy, wz), in plain floats."""
+    c, dt = model.c, model.dt
+    out: list[list[float]] = []
+    specs = [(0, speed[0], c.ax_max, c.ax_min), (2, speed[2], c.az_max, -c.az_max)]
+    specs.insert(1, (1, speed[1], c.ay_max, c.ay_min) if model.holonomic else (1, 0.0, 0.0, 0.0))
+    for col, v0, a_up, a_down in specs:
+        seq = cs[:, col].tolist()
+        vs = [v0]
+        for i in range(1, len(seq)):
+            prev = vs[-1]
+            if prev > 0:
+                lo, hi = prev + a_down * dt, prev + a_up * dt
+            else:
+                lo, hi = prev - a_up * dt, prev - a_down * dt
+            vs.append(min(max(seq[i - 1], lo), hi))
+        out.append(vs)
+    return out[0], out[1], out[2]
+
+
+class DiffDriveMotionModel(MotionModel):
+    pass
+
+
+class OmniMotionModel(MotionModel):
+    holonomic = True
+
+
+class AckermannMotionModel(MotionModel):
+    """Car-like: |wz| <= |vx| / min_turning_r (no turning on the spot)."""
+
+    def __init__(
+        self, constraints: ControlConstraints, model_dt: float, min_turning_r: float
+    ) -> None:
+        super().__init__(constraints, model_dt)
+        self.min_turning_r = min_turning_r
+
+    def apply_constraints(self, u: F32) -> None:
+        super().apply_constraints(u)
+        limit = np.abs(u[:, VX]) / np.float32(self.min_turning_r)
+        np.clip(u[:, WZ], -limit, limit, out=u[:, WZ])
+
+
+MOTION_MODELS = {
+    "mppi::DiffDriveMotionModel": DiffDriveMotionModel,
+    "mppi::OmniMotionModel": OmniMotionModel,
+    "mppi::AckermannMotionModel": AckermannMotionModel,
+}
+#: Nav2's older spelling: `motion_model: DiffDrive` with no plugin section.
+LEGACY_NAMES = {
+    "DiffDrive": "mppi::DiffDriveMotionModel",
+    "Omni": "mppi::OmniMotionModel",
+    "Ackermann": "mppi::AckermannMotionModel",
+}

@@ -1,0 +1,211 @@
+"""The path handler (nav2_controller::FeasiblePathHandler): the part of the global plan a controller sees.
+
+Each control cycle it finds the plan pose closest to the robot (searching only
+the first `max_robot_pose_search_dist` metres of the remaining plan, so a path
+that passes the robot twice is not short-cut), drops everything before it, and
+hands the controller the next `prune_distance` metres, transformed into the
+costmap's frame and cut where the plan leaves the costmap.
+
+With `enforce_path_inversion` (a cusp where the plan reverses direction) or
+`enforce_path_rotation` (an in-place rotation larger than
+`minimum_rotation_angle`), the controller only sees the plan up to that
+constraint; once the robot is within `inversion_xy_tolerance` /
+`inversion_yaw_tolerance` of that pose, the rest of the plan is released.
+
+The helpers `integrated_index` and `closest_index` are vectorised and shared with
+the controllers (DWB, RPP) that prune a plan themselves.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field
+
+from ..core.geometry import Pose2D, angle_diff, compose_arrays
+from ..core.messages import Path
+from ..costmap.costmap_2d import Costmap2D
+from ..params.schema import ParamsModel
+from ..plugins import register
+from .exceptions import InvalidPath
+
+_EPS_TRANS = 1e-4
+
+
+def integrated_index(poses: NDArray[np.float64], start: int, distance: float) -> int:
+    """Index of the first pose after `start` whose path distance from `start` exceeds `distance`
+    (len(poses) when none does): the exclusive end of the window of that length."""
+    if start >= len(poses):
+        return len(poses)
+    seg = np.hypot(*np.diff(poses[start:, :2], axis=0).T)
+    beyond = np.flatnonzero(np.cumsum(seg) > distance)
+    return start + 1 + int(beyond[0]) if beyond.size else len(poses)
+
+
+def closest_index(
+    poses: NDArray[np.float64], x: float, y: float, search_dist: float = math.inf
+) -> int:
+    """The closest pose to (x, y) among the first `search_dist` metres of the path."""
+    upper = integrated_index(poses, 0, search_dist) if math.isfinite(search_dist) else len(poses)
+    upper = max(upper, 1)
+    d2 = (poses[:upper, 0] - x) ** 2 + (poses[:upper, 1] - y) ** 2
+    return int(np.argmin(d2))
+
+
+def first_path_constraint(
+    poses: NDArray[np.float64], enforce_inversion: bool, rotation_threshold: float
+) -> int:
+    """Index of the first pose after a cusp or an in-place rotation (len(poses) if none)."""
+    n = len(poses)
+    if n < 3:
+        return n
+    d = np.diff(poses[:, :2], axis=0)
+    trans = np.hypot(d[:, 0], d[:, 1])
+    inversion = n
+    if enforce_inversion:
+        moving = np.flatnonzero(trans > _EPS_TRANS)
+        if moving.size > 1:
+            dots = np.einsum("ij,ij->i", d[moving[1:]], d[moving[:-1]])
+            cusp = np.flatnonzero(dots < 0.0)
+            if cusp.size:
+                inversion = int(moving[cusp[0] + 1]) + 1
+    rotation = n
+    if abs(rotation_threshold) > 1e-6:
+        still = trans < _EPS_TRANS
+        turn = np.abs(angle_diff(poses[1:, 2], poses[:-1, 2]))
+        # Runs of consecutive in-place segments; the first whose accumulated turn crosses the threshold.
+        run_id = np.cumsum(~still)  # constant within a run of still segments
+        acc = np.where(still, turn, 0.0)
+        cums = np.cumsum(acc)
+        run_start_cum = np.zeros_like(cums)
+        starts = np.flatnonzero(still & np.r_[True, ~still[:-1]])
+        run_start_cum_vals = cums[starts] - acc[starts]
+        run_start_cum[still] = run_start_cum_vals[np.searchsorted(run_id[starts], run_id[still])]
+        over = np.flatnonzero(still & (cums - run_start_cum > rotation_threshold))
+        if over.size:
+            rotation = int(over[0]) + 1
+    return min(rotation, inversion)
+
+
+class PathHandler:
+    """Base of every `path_handler` plugin (nav2_core::PathHandler)."""
+
+    class Params(ParamsModel):
+        pass
+
+    plugin_kind: ClassVar[str]
+    plugin_name: ClassVar[str]
+
+    def __init__(self, name: str = "PathHandler", params: ParamsModel | None = None) -> None:
+        self.name = name
+        self.params = params if params is not None else self.Params()
+
+    def set_plan(self, path: Path) -> None:
+        raise NotImplementedError
+
+    def transform_global_plan(
+        self, pose: Pose2D, costmap: Costmap2D, plan_to_costmap: Pose2D | None = None
+    ) -> Path:
+        raise NotImplementedError
+
+    def transformed_goal(self, plan_to_costmap: Pose2D | None = None) -> Pose2D:
+        raise NotImplementedError
+
+
+@register("path_handler", "nav2_controller::FeasiblePathHandler")
+class FeasiblePathHandler(PathHandler):
+    class Params(ParamsModel):
+        prune_distance: float = Field(2.0, ge=0.0)
+        #: None: half the costmap's larger side, as Nav2 defaults it; negative: search the whole plan.
+        max_robot_pose_search_dist: float | None = None
+        enforce_path_inversion: bool = False
+        enforce_path_rotation: bool = False
+        inversion_xy_tolerance: float = Field(0.2, ge=0.0)
+        inversion_yaw_tolerance: float = Field(0.4, ge=0.0)
+        minimum_rotation_angle: float = Field(0.785, ge=0.0)
+        reject_unit_path: bool = False
+
+    params: Params
+
+    def __init__(self, name: str = "PathHandler", params: ParamsModel | None = None) -> None:
+        super().__init__(name, params)
+        self.global_plan = Path(0.0, np.zeros((0, 3)))
+        self.plan_up_to_constraint = self.global_plan.poses
+        self.constraint_locale = 0
+
+    @property
+    def _rotation_threshold(self) -> float:
+        p = self.params
+        return p.minimum_rotation_angle if p.enforce_path_rotation else 0.0
+
+    @property
+    def _constrained(self) -> bool:
+        return self.params.enforce_path_inversion or self.params.enforce_path_rotation
+
+    def _crop(self) -> None:
+        poses = self.global_plan.poses
+        self.plan_up_to_constraint = poses
+        self.constraint_locale = 0
+        if self._constrained:
+            idx = first_path_constraint(
+                poses, self.params.enforce_path_inversion, self._rotation_threshold
+            )
+            if idx < len(poses):
+                self.plan_up_to_constraint = poses[:idx]
+                self.constraint_locale = idx
+
+    def set_plan(self, path: Path) -> None:
+        self.global_plan = Path(
+            path.stamp, np.asarray(path.poses, float).reshape(-1, 3), path.frame_id
+        )
+        self._crop()
+
+    def _search_dist(self, costmap: Costmap2D) -> float:
+        d = self.params.max_robot_pose_search_dist
+        if d is None:
+            return max(costmap.size_in_meters) / 2.0
+        return math.inf if d < 0 else d
+
+    def transform_global_plan(
+        self, pose: Pose2D, costmap: Costmap2D, plan_to_costmap: Pose2D | None = None
+    ) -> Path:
+        """The local plan in the costmap's frame; `pose` is the robot in the plan's frame and
+        `plan_to_costmap` the plan frame's pose in the costmap frame (identity if None)."""
+        poses = self.plan_up_to_constraint
+        if len(poses) == 0:
+            raise InvalidPath("Received plan with zero length")
+        if self.params.reject_unit_path and len(poses) == 1:
+            raise InvalidPath("Received plan with length of one")
+        closest = closest_index(poses, pose.x, pose.y, self._search_dist(costmap))
+        if len(poses) > 1 and closest == len(poses) - 1:
+            closest -= 1
+        end = integrated_index(poses, closest, self.params.prune_distance)
+        local = poses[closest:end]
+        if plan_to_costmap is not None:
+            local = compose_arrays(plan_to_costmap.as_array(), local)
+        _, inside = costmap.world_to_map(local[:, :2])
+        off = np.flatnonzero(~inside)
+        if off.size:
+            local = local[: off[0]]
+        self.plan_up_to_constraint = poses[closest:]
+        if self._constrained and self.constraint_locale:
+            last = self.plan_up_to_constraint[-1]
+            near = (
+                math.hypot(pose.x - last[0], pose.y - last[1]) <= self.params.inversion_xy_tolerance
+            )
+            if near and abs(angle_diff(pose.yaw, last[2])) <= self.params.inversion_yaw_tolerance:
+                g = self.global_plan
+                self.global_plan = Path(g.stamp, g.poses[self.constraint_locale :], g.frame_id)
+                self._crop()
+        if len(local) == 0:
+            raise InvalidPath("Resulting plan has 0 poses in it.")
+        return Path(self.global_plan.stamp, local, costmap.frame_id)
+
+    def transformed_goal(self, plan_to_costmap: Pose2D | None = None) -> Pose2D:
+        if len(self.global_plan) == 0:
+            raise InvalidPath("Received plan with zero length")
+        goal = Pose2D.from_array(self.global_plan.poses[-1])
+        return plan_to_costmap @ goal if plan_to_costmap is not None else goal
