@@ -1,0 +1,183 @@
+"""Nav2's planner_server: ComputePathToPose and ComputePathThroughPoses on the global costmap.
+
+`PlannerServer(runtime, params, global_costmap)` builds the `planner_plugins` of its
+params section and serves two actions (names as Nav2's):
+
+- `compute_path_to_pose` (ComputePathToPose): goal `ComputePathToPoseGoal(goal,
+  planner_id, start, use_start)`; the result's `value` is the `Path` in the global
+  costmap's frame.
+- `compute_path_through_poses` (ComputePathThroughPoses): one plan per leg, joined.
+
+A planner's exception (`planning.exceptions`) becomes the action's error code and
+message, never an exception in the caller: a goal in an obstacle is GOAL_OCCUPIED (or
+NO_VALID_PATH when NavFn's `tolerance` lets it look round the goal and it finds
+nothing), an unknown `planner_id` INVALID_PLANNER, a missing transform TF_ERROR.
+Planning finishes within the server cycle the goal starts in (sim time does not
+pass while a plan is computed), so `expected_planner_frequency` has nothing to time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..core.errors import FrameError
+from ..core.geometry import Pose2D
+from ..core.messages import Path, PoseStamped
+from ..params.paramsfile import ServerParams
+from ..planning.exceptions import PlannerException
+from .actions import ActionServer, GoalHandle
+from .costmap_server import CostmapServer
+from .error_codes import (
+    ComputePathThroughPosesError,
+    ComputePathToPoseError,
+    NavErrorCode,
+    NavResult,
+)
+from .runtime import Runtime, Stage
+from .server_plugins import make_plugins, pick
+
+PoseLike = Pose2D | PoseStamped | Sequence[float]
+
+
+@dataclass
+class ComputePathToPoseGoal:
+    goal: PoseLike
+    planner_id: str = ""
+    start: PoseLike | None = None
+    use_start: bool = False
+
+
+@dataclass
+class ComputePathThroughPosesGoal:
+    goals: list[PoseLike] = field(default_factory=list)
+    planner_id: str = ""
+    start: PoseLike | None = None
+    use_start: bool = False
+
+
+class _PlanError(Exception):
+    def __init__(self, code_name: str, msg: str) -> None:
+        super().__init__(msg)
+        self.code_name = code_name
+
+
+class PlannerServer:
+    """planner_server: owns the planner plugins and the two planning actions."""
+
+    stage = Stage.SERVER
+
+    def __init__(
+        self,
+        runtime: Runtime,
+        params: ServerParams,
+        costmap: CostmapServer,
+        *,
+        seed: int | None = None,
+    ) -> None:
+        self.seed = runtime.seed if seed is None else seed
+        self.runtime = runtime
+        self.params = params
+        self.costmap = costmap
+        self.planners: dict[str, Any] = make_plugins(params, "planner", seed=self.seed)
+        # Planning takes no sim time: a goal is answered on the step after it is sent.
+        self.rate = 1.0 / runtime.physics_dt
+        self.to_pose: ActionServer[ComputePathToPoseGoal] = ActionServer(
+            "ComputePathToPose", "compute_path_to_pose", on_start=self._to_pose
+        )
+        self.through_poses: ActionServer[ComputePathThroughPosesGoal] = ActionServer(
+            "ComputePathThroughPoses", "compute_path_through_poses", on_start=self._through_poses
+        )
+        runtime.add_action_server(self.to_pose)
+        runtime.add_action_server(self.through_poses)
+
+    def update(self, now: float) -> None:
+        self.to_pose.update(now)
+        self.through_poses.update(now)
+
+    # -- the public call (also what the actions do) -----------------------------------------
+
+    def create_plan(
+        self, goal: PoseLike, planner_id: str = "", start: PoseLike | None = None
+    ) -> Path:
+        """Plan from `start` (the robot if None) to `goal` in the global frame; raises
+        `PlannerException` (with `.error_code`) or `_PlanError` on failure."""
+        planner = pick(self.planners, planner_id)
+        if planner is None:
+            raise _PlanError(
+                "INVALID_PLANNER",
+                f"planner id '{planner_id}' is not one of: {', '.join(self.planners)}",
+            )
+        start_pose = self._in_global(start) if start is not None else self._robot_pose()
+        goal_pose = self._in_global(goal)
+        path = planner.create_plan(start_pose, goal_pose, self.costmap.costmap, lambda: False)
+        if path is None or len(path) == 0:
+            raise _PlanError("NO_VALID_PATH", f"planner '{planner.name}' returned an empty path")
+        return Path(self.runtime.now, path.poses, self.costmap.global_frame)
+
+    # -- actions ----------------------------------------------------------------------------
+
+    def _to_pose(self, handle: GoalHandle[ComputePathToPoseGoal], now: float) -> NavResult:
+        g = handle.goal
+        return self._result(
+            ComputePathToPoseError,
+            lambda: self.create_plan(g.goal, g.planner_id, g.start if g.use_start else None),
+        )
+
+    def _through_poses(
+        self, handle: GoalHandle[ComputePathThroughPosesGoal], now: float
+    ) -> NavResult:
+        g = handle.goal
+        if not g.goals:
+            return NavResult.failure(ComputePathThroughPosesError.NO_VIAPOINTS_GIVEN)
+
+        def plan() -> Path:
+            start = g.start if g.use_start else None
+            legs: list[np.ndarray] = []
+            for goal in g.goals:
+                leg = self.create_plan(goal, g.planner_id, start)
+                legs.append(leg.poses if not legs else leg.poses[1:])
+                start = Pose2D.from_array(leg.poses[-1])
+            return Path(now, np.concatenate(legs), self.costmap.global_frame)
+
+        return self._result(ComputePathThroughPosesError, plan)
+
+    def _result(self, codes: type[NavErrorCode], plan: Any) -> NavResult:
+        try:
+            return NavResult.success(plan())
+        except PlannerException as exc:
+            code = codes[exc.error_code.name]
+            return NavResult.failure(code, str(exc) or code.message)
+        except _PlanError as exc:
+            return NavResult.failure(codes[exc.code_name], str(exc))
+        except FrameError as exc:
+            return NavResult.failure(codes["TF_ERROR"], str(exc))
+
+    # -- frames -----------------------------------------------------------------------------
+
+    def _robot_pose(self) -> Pose2D:
+        return self.runtime.lookup(self.costmap.global_frame, self.costmap.robot_base_frame)
+
+    def _in_global(self, pose: PoseLike) -> Pose2D:
+        if isinstance(pose, PoseStamped):
+            p, frame = pose.pose, pose.frame_id
+        elif isinstance(pose, Pose2D):
+            p, frame = pose, self.costmap.global_frame
+        else:
+            p, frame = Pose2D(*pose), self.costmap.global_frame
+        if frame != self.costmap.global_frame:
+            p = self.runtime.lookup(self.costmap.global_frame, frame) @ p
+        return p
+
+    # -- dynamic parameters -----------------------------------------------------------------
+
+    def set_parameters(self, params: ServerParams) -> None:
+        """Apply params `validate_update` accepted: plugins take their new sections."""
+        self.params = params
+        for name, section in params.plugins.items():
+            planner = self.planners.get(name)
+            if planner is not None and section.params is not None:
+                planner.params = section.params

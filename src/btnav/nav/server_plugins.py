@@ -1,0 +1,41 @@
+"""Building a server's plugins from its params sections, and picking one by id, as Nav2 does."""
+
+from __future__ import annotations
+
+import inspect
+from typing import Any
+
+from ..core.rng import stream
+from ..params.paramsfile import PluginSection, ServerParams
+
+
+def make_plugin(section: PluginSection, *, seed: int | None = None, server: str = "") -> Any:
+    """`cls(name, params)` for a resolved section; a plugin that takes `rng` gets its own
+    stream of the run's seed (named by server and plugin), so runs repeat bit for bit."""
+    if section.cls is None:
+        raise ValueError(f"plugin '{section.name}' ({section.type}) is not implemented in btnav")
+    kwargs: dict[str, Any] = {}
+    if seed is not None:
+        try:
+            accepted = inspect.signature(section.cls).parameters
+        except (TypeError, ValueError):
+            accepted = {}
+        if "rng" in accepted:
+            kwargs["rng"] = stream(seed, server, section.name)
+    return section.cls(section.name, section.params, **kwargs)
+
+
+def make_plugins(params: ServerParams, kind: str, *, seed: int | None = None) -> dict[str, Any]:
+    """Every implemented plugin of `kind` in list order, by its name in the file."""
+    return {
+        s.name: make_plugin(s, seed=seed, server=params.name)
+        for s in params.plugins_of(kind)
+        if s.cls is not None
+    }
+
+
+def pick(plugins: dict[str, Any], wanted: str) -> Any | None:
+    """Nav2's id lookup: an empty id means the only plugin there is; else the named one."""
+    if not wanted:
+        return next(iter(plugins.values())) if len(plugins) == 1 else None
+    return plugins.get(wanted)

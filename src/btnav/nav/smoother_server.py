@@ -1,0 +1,99 @@
+"""Nav2's smoother_server: SmoothPath with the `smoother_plugins` on the global costmap.
+
+Goal `SmoothPathGoal(path, smoother_id, max_smoothing_duration, check_for_collisions)`;
+the result's `value` is a `planning.Smoothed(path, was_completed)`. A smoother's
+exception becomes SmoothPath's error code; with `check_for_collisions` a smoothed
+path through a lethal or inscribed cell is SMOOTHED_PATH_IN_COLLISION, as Nav2's
+server checks it. Smoothing finishes within the cycle it starts in (sim time does not
+pass during a call), so `max_smoothing_duration` never expires here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..core.messages import Path
+from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
+from ..params.paramsfile import ServerParams
+from ..planning.exceptions import SmootherException
+from ..planning.smoother import Smoothed
+from .actions import ActionServer, GoalHandle
+from .costmap_server import CostmapServer
+from .error_codes import NavResult, SmoothPathError
+from .runtime import Runtime, Stage
+from .server_plugins import make_plugins, pick
+
+
+@dataclass
+class SmoothPathGoal:
+    path: Path
+    smoother_id: str = ""
+    max_smoothing_duration: float = 1.0
+    check_for_collisions: bool = True
+
+
+class SmootherServer:
+    """smoother_server: owns the smoother plugins and the `smooth_path` action."""
+
+    stage = Stage.SERVER
+
+    def __init__(
+        self,
+        runtime: Runtime,
+        params: ServerParams,
+        costmap: CostmapServer,
+        *,
+        seed: int | None = None,
+    ) -> None:
+        self.seed = runtime.seed if seed is None else seed
+        self.runtime = runtime
+        self.params = params
+        self.costmap = costmap
+        self.smoothers: dict[str, Any] = make_plugins(params, "smoother", seed=self.seed)
+        self.rate = 1.0 / runtime.physics_dt
+        self.action: ActionServer[SmoothPathGoal] = ActionServer(
+            "SmoothPath", "smooth_path", on_start=self._smooth
+        )
+        runtime.add_action_server(self.action)
+
+    def update(self, now: float) -> None:
+        self.action.update(now)
+
+    def smooth(self, goal: SmoothPathGoal) -> NavResult:
+        """Smooth now and return the action's result (what the action does)."""
+        smoother = pick(self.smoothers, goal.smoother_id)
+        if smoother is None:
+            return NavResult.failure(
+                SmoothPathError.INVALID_SMOOTHER,
+                f"smoother id '{goal.smoother_id}' is not one of: {', '.join(self.smoothers)}",
+            )
+        if goal.path is None or len(goal.path) == 0:
+            return NavResult.failure(SmoothPathError.INVALID_PATH, "the path is empty")
+        costmap = self.costmap.costmap
+        try:
+            out: Smoothed = smoother.smooth(goal.path, costmap, lambda: False)
+        except SmootherException as exc:
+            code = SmoothPathError[exc.error_code.name]
+            return NavResult.failure(code, str(exc) or code.message)
+        if goal.check_for_collisions:
+            costs = costmap.cost_at(np.asarray(out.path.poses)[:, :2])
+            hit = (costs == LETHAL_OBSTACLE) | (costs == INSCRIBED_INFLATED_OBSTACLE)
+            if hit.any():
+                return NavResult.failure(
+                    SmoothPathError.SMOOTHED_PATH_IN_COLLISION,
+                    f"the smoothed path collides at pose {int(np.flatnonzero(hit)[0])}",
+                )
+        return NavResult.success(out)
+
+    def _smooth(self, handle: GoalHandle[SmoothPathGoal], now: float) -> NavResult:
+        return self.smooth(handle.goal)
+
+    def set_parameters(self, params: ServerParams) -> None:
+        self.params = params
+        for name, section in params.plugins.items():
+            smoother = self.smoothers.get(name)
+            if smoother is not None and section.params is not None:
+                smoother.params = section.params

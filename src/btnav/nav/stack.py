@@ -1,0 +1,119 @@
+"""The navigation stack a Nav2 launch brings up, built from one params file on a runtime.
+
+`NavStack.build(runtime, params, map_grid, seed=...)` creates, from the params file as
+Nav2 writes it: map_server (the mission's map, else `yaml_filename`), the global
+costmap (in `map`, static + obstacle + inflation for Nav2's file) and the local
+costmap (rolling in `odom`) as components at their `update_frequency`, and the
+planner, controller and smoother servers with their actions
+(`compute_path_to_pose`, `compute_path_through_poses`, `follow_path`,
+`smooth_path`). The localiser (`runtime.use_localizer`) and behavior_server are
+added by their owners.
+
+`stack.set_parameters("local_costmap", {"inflation_layer.inflation_radius": 0.5})`
+is Nav2's dynamic parameters: validated like the file (`params.validate_update`;
+nothing changes if one value is wrong) and applied to the running server.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from os import PathLike
+from typing import Any
+
+from ..costmap.layered_costmap import CostmapROS
+from ..maps.occupancy_grid import OccupancyGrid
+from ..params.loader import load_params
+from ..params.paramsfile import ParamsFile, ServerParams
+from ..params.updates import validate_update
+from .controller_server import ControllerServer
+from .costmap_server import CostmapServer
+from .map_server import MapServer
+from .planner_server import PlannerServer
+from .runtime import Runtime
+from .smoother_server import SmootherServer
+
+
+class NavStack:
+    def __init__(
+        self,
+        runtime: Runtime,
+        params: ParamsFile,
+        map_server: MapServer,
+        global_costmap: CostmapServer,
+        local_costmap: CostmapServer,
+        planner_server: PlannerServer,
+        controller_server: ControllerServer,
+        smoother_server: SmootherServer,
+    ) -> None:
+        self.runtime = runtime
+        self.params = params
+        self.map_server = map_server
+        self.global_costmap = global_costmap
+        self.local_costmap = local_costmap
+        self.planner_server = planner_server
+        self.controller_server = controller_server
+        self.smoother_server = smoother_server
+        #: Servers by their params-file name, for set_parameters.
+        self.servers: dict[str, Any] = {
+            "global_costmap": global_costmap,
+            "local_costmap": local_costmap,
+            "planner_server": planner_server,
+            "controller_server": controller_server,
+            "smoother_server": smoother_server,
+        }
+
+    @classmethod
+    def build(
+        cls,
+        runtime: Runtime,
+        params: ParamsFile | str | PathLike[str],
+        map_grid: OccupancyGrid | None = None,
+        *,
+        seed: int | None = None,
+    ) -> NavStack:
+        """Every server of the params file on `runtime`; `seed` defaults to the runtime's."""
+        seed = runtime.seed if seed is None else seed
+        pf = params if isinstance(params, ParamsFile) else load_params(params)
+        map_server = MapServer(pf.server("map_server").model, map=map_grid, base_dir=pf.path.parent)
+        global_ros = CostmapROS.from_params(pf, "global_costmap")
+        map_server.subscribe(global_ros.set_map)
+        global_costmap = runtime.add(CostmapServer(runtime, global_ros))
+        local_costmap = runtime.add(
+            CostmapServer(runtime, CostmapROS.from_params(pf, "local_costmap"))
+        )
+        planner = runtime.add(
+            PlannerServer(runtime, pf.server("planner_server"), global_costmap, seed=seed)
+        )
+        controller = ControllerServer(
+            runtime, pf.server("controller_server"), local_costmap, seed=seed
+        )
+        smoother = runtime.add(
+            SmootherServer(runtime, pf.server("smoother_server"), global_costmap, seed=seed)
+        )
+        return cls(
+            runtime, pf, map_server, global_costmap, local_costmap, planner, controller, smoother
+        )
+
+    # -- dynamic parameters ---------------------------------------------------------------
+
+    def set_parameters(self, server: str, changes: Mapping[str, Any]) -> ServerParams:
+        """Change a running server's params, validated like the file; returns its new params."""
+        updated = validate_update(self.params, server, changes)
+        target = self.servers.get(updated.name)
+        if target is not None:
+            target.set_parameters(updated)
+        return updated
+
+    # -- services -------------------------------------------------------------------------
+
+    def services(self) -> dict[str, Callable[..., Any]]:
+        """Nav2's service names -> callables (clear costmaps, load_map)."""
+        out: dict[str, Callable[..., Any]] = {}
+        out.update(self.global_costmap.services())
+        out.update(self.local_costmap.services())
+        out["map_server/load_map"] = self.map_server.load_map
+        return out
+
+    def clear_all_costmaps(self) -> None:
+        self.global_costmap.clear_entirely()
+        self.local_costmap.clear_entirely()
