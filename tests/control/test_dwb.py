@@ -12,8 +12,8 @@ from btnav.control.dwb import DWBLocalPlanner
 from btnav.control.dwb.local_planner import DWBParams
 from btnav.control.exceptions import NoValidControl
 from btnav.control.goal_checkers import SimpleGoalChecker
-from btnav.core.geometry import Pose2D
-from btnav.core.messages import Twist
+from btnav.core.geometry import Pose2D, angle_diff
+from btnav.core.messages import Path, Twist
 from btnav.plugins import lookup
 
 from .unicycle import curved_path, drive, free_costmap, straight_path
@@ -100,3 +100,30 @@ def test_cycle_time_20x40():
     for _ in range(20):
         ctrl.compute_velocity_commands(Pose2D(0.3, 0.0, 0.0), Twist(linear_x=0.2), cm)
     assert (time.perf_counter() - t0) / 20 < 0.05  # one 20 Hz control period
+
+
+@pytest.mark.parametrize(
+    "start, goal_yaw",
+    [
+        (Pose2D(2.0, 0.0, 0.0), math.pi / 2),  # on the goal, a quarter turn off
+        (Pose2D(1.78, 0.06, -0.44), 0.0),  # the office run: 0.23 m short, nose 0.44 rad low
+        (Pose2D(1.85, -0.1, 2.5), -0.5),  # inside the tolerance, facing away
+    ],
+)
+def test_rotates_in_place_to_the_goal_yaw(start, goal_yaw):
+    # The robot stands within xy_goal_tolerance with the wrong yaw: RotateToGoal only allows
+    # rotations, and the align critics (whose "face the goal point" pull is meaningless this
+    # close) must not stop it turning to the goal's yaw.
+    x = np.arange(0.0, 2.0 + 1e-9, 0.05)
+    poses = np.stack([x, np.zeros_like(x), np.zeros_like(x)], axis=-1)
+    poses[-1, 2] = goal_yaw
+    path = Path(0.0, poses, "odom")
+    ctrl = DWBLocalPlanner(params=DWBParams(max_vel_x=0.5, max_speed_xy=0.5, max_vel_theta=1.0))
+    checker = SimpleGoalChecker()
+    pose, cmds, _poses, reached = drive(
+        ctrl, path, free_costmap(), checker, start=start, max_steps=200
+    )
+    assert reached, pose  # 10 s: a quarter turn at up to 1 rad/s takes a few seconds
+    assert abs(angle_diff(goal_yaw, pose.yaw)) <= checker.params.yaw_goal_tolerance
+    assert all(v == 0.0 for v, _w in cmds)  # turned in place
+    assert math.hypot(pose.x - start.x, pose.y - start.y) < 1e-9

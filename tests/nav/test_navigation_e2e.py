@@ -38,14 +38,7 @@ def _through_doorway(path) -> bool:
     "controller",
     [
         "MPPI",
-        pytest.param(
-            "DWB",
-            marks=pytest.mark.xfail(
-                reason="DWB reaches xy tolerance (0.23 m) but dithers at +-0.05 rad/s in its "
-                "rotate-to-goal phase until the progress checker aborts (critic issue, open)",
-                strict=False,
-            ),
-        ),
+        "DWB",
         "RPP",
     ],
 )

@@ -59,6 +59,22 @@ class MapGridCritic(TrajectoryCritic):
         self._tree: cKDTree | None = None
         self._seeds = np.zeros((0, 2))
 
+    def near_goal(self, pose, goal) -> bool:
+        """Within the goal window where only the final yaw matters (the align critics' off switch).
+
+        Nav2's PathAlign switches off within its forward_point_distance; btnav also switches
+        PathAlign and GoalAlign off within the planner's `xy_goal_tolerance`, the window in which
+        RotateToGoal allows only rotations. There, "point the nose at the path / at the goal
+        point" is a different heading from the goal's yaw, and their score moves in whole cells
+        (24 per cell for GoalAlign against RotateToGoal's 32 per radian), so it would hold the
+        robot short of the yaw tolerance, dithering as the plan's cells shift.
+        """
+        radius = max(
+            float(self.params.forward_point_distance),
+            float(getattr(self.planner, "xy_goal_tolerance", 0.0)),
+        )
+        return (pose.x - goal.x) ** 2 + (pose.y - goal.y) ** 2 <= radius * radius
+
     def set_seeds(self, cells: NDArray[np.int64]) -> bool:
         if len(cells) == 0:
             self._tree = None

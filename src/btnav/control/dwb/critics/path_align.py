@@ -1,10 +1,14 @@
 """dwb_critics::PathAlign: PathDist of a point `forward_point_distance` ahead of the trajectory's end.
 
-Keeps the robot's nose on the path. Switched off (scale 0) within
-forward_point_distance of the goal; its scale is `scale * resolution / 2`, as Nav2's.
+Keeps the robot's nose on the path. Its scale is `scale * resolution / 2`, as Nav2's.
+Switched off (scale 0) near the goal: within forward_point_distance, as Nav2's, and
+within the planner's xy_goal_tolerance, where RotateToGoal turns the robot to the
+goal's yaw (see `MapGridCritic.near_goal`).
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from ....plugins import register
 from .path_dist import PathDistCritic
@@ -20,16 +24,13 @@ class PathAlignCritic(PathDistCritic):
         self.zero_scale = False
 
     def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
-        d = self.params.forward_point_distance
-        self.zero_scale = (pose.x - goal.x) ** 2 + (pose.y - goal.y) ** 2 <= d * d
+        self.zero_scale = self.near_goal(pose, goal)
         if self.zero_scale:
             return True
         return super().prepare(pose, velocity, goal, plan, costmap)
 
     def score(self, trajs, costmap):
         if self.zero_scale:
-            import numpy as np
-
             return np.zeros(len(trajs))
         return super().score(trajs, costmap)
 
