@@ -114,6 +114,19 @@ def test_around_a_wall_through_the_doorway() -> None:
     assert path.length() < 1.05 * 2 * np.hypot(*(door - (0.5, 0.5)))
 
 
+@pytest.mark.parametrize("use_astar", [False, True])
+def test_long_detour_beyond_the_first_search_bound(use_astar: bool) -> None:
+    # the doorway is far off the straight line: the path is ~1.9x it, so the search
+    # bound has to grow past its first detour allowance
+    cm = wall_with_door((70, 76))
+    path = planner(use_astar=use_astar).create_plan(Pose2D(0.5, 0.5), Pose2D(4.5, 0.5), cm)
+    assert_clear(path.poses[:, :2], cm)
+    crossing = path.poses[np.argmin(np.abs(path.poses[:, 0] - 50.5 * RES)), 1]
+    assert 70 * RES <= crossing <= 76 * RES
+    door = np.array([50.5 * RES, 73 * RES])
+    assert path.length() < 1.05 * 2 * np.hypot(*(door - (0.5, 0.5)))
+
+
 def test_avoids_inflated_cost_when_there_is_room() -> None:
     cm = free_map(120, 80)
     cm.costs[30:50, 55:65] = 254  # a block in the middle

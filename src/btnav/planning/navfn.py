@@ -9,12 +9,15 @@ The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
 - The potential is 0 at the robot's cell and grows by a cell's mapped cost for every
   cell length travelled through it; `POT_HIGH` marks cells never reached. NavFn
   propagates a 4-neighbour planar wave with bucketed priorities; here the same cost
-  field is propagated by a shortest-path search on the 8-connected grid
-  (scipy.sparse.csgraph.dijkstra, straight steps cost `c`, diagonal steps `sqrt(2) c`,
-  no corner cutting between two blocked cells), which is exact for that graph and
-  runs in C. A* (`use_astar`) is the same search on heuristic-reduced weights with an
-  expanding bound, so it visits only cells near the straight line and, its heuristic
-  being consistent, yields the same potential along the optimal path.
+  field is propagated by a shortest-path search on the 16-connected grid (the 8
+  neighbours and the knight's moves; scipy.sparse.csgraph.dijkstra, a step costs its
+  length times the mean cost of the cells it enters, no corner cutting between two
+  blocked cells), which is exact for that graph and runs in C. Like NavFn's, the search
+  stops soon after the goal: it is bounded by the straight-line cost plus a detour
+  allowance (doubled and searched again only if the goal lies beyond). A* (`use_astar`)
+  is the same search on heuristic-reduced weights, so it visits only cells near the
+  straight line and, its heuristic being consistent, yields the same potential along
+  the optimal path.
 - The path is extracted as `calcPath` does: from the goal cell, step half a cell down
   the bilinearly interpolated, normalised potential gradient; next to unreached cells
   (or when oscillating) follow the grid to the lowest of the eight neighbours; stop
@@ -69,47 +72,73 @@ def navfn_costs(costs: NDArray[np.uint8], allow_unknown: bool) -> NDArray[np.uin
 
 
 class GridGraph:
-    """The 8-connected graph of one grid shape; its structure is built once and reused."""
+    """The 16-connected graph of one grid shape; its structure is built once and reused.
+
+    Every cell has a CSR row of `_K` entries, one per offset; an off-grid neighbour
+    points at some cell of the grid with an infinite weight (never relaxed: no edge).
+    """
 
     def __init__(self, ny: int, nx: int) -> None:
         self.shape = (ny, nx)
         n = ny * nx
-        index = np.arange(n, dtype=np.int32).reshape(ny, nx)
-        padded = np.pad(index, 2)  # off-grid neighbours point at cell 0 with an infinite weight
-        cols = np.empty((ny, nx, _K), dtype=np.int32)
-        for k, (dy, dx) in enumerate(_OFFSETS):
-            cols[:, :, k] = padded[2 + dy : 2 + dy + ny, 2 + dx : 2 + dx + nx]
+        shifts = np.array([dy * nx + dx for dy, dx in _OFFSETS], dtype=np.int32)
+        cols = np.arange(n, dtype=np.int32)[:, None] + shifts
+        np.clip(cols, 0, n - 1, out=cols)  # off-grid: any valid cell, the weight is inf
         self.indices = cols.reshape(-1)
         self.indptr = np.arange(0, _K * n + 1, _K, dtype=np.int32)
         self._cache_key: bytes | None = None
         self._cache: csr_matrix | None = None
 
-    def weights(self, costarr: NDArray[np.uint8]) -> NDArray[np.float64]:
+    def weights(
+        self, costarr: NDArray[np.uint8], h: NDArray[np.float64] | None = None
+    ) -> NDArray[np.float64]:
         """Edge weights: the step length times the mean mapped cost of the cells it
-        enters (for a straight or diagonal step, the one cell entered)."""
+        enters (for a straight or diagonal step, the one cell entered).
+
+        With a heuristic `h` (ny, nx), the weights are reduced by it (A*'s
+        `w(u, v) + h(v) - h(u)`, clipped at 0 against rounding)."""
         ny, nx = self.shape
-        c = costarr.astype(np.float64)
-        c[costarr >= COST_OBS] = np.inf
-        pad = np.pad(c, 2, constant_values=np.inf)
+        pad = np.full((ny + 4, nx + 4), np.inf)
+        inner = pad[2:-2, 2:-2]
+        np.copyto(inner, costarr)
+        np.copyto(inner, np.inf, where=costarr >= COST_OBS)
+        blocked = np.isinf(pad)
+        if h is not None:
+            hpad = np.zeros((ny + 4, nx + 4))  # off-grid weights are inf whatever h adds
+            hpad[2:-2, 2:-2] = h
+        # computed offset by offset on contiguous planes of a block of rows (small enough
+        # to stay in cache), then laid out as CSR rows
+        out = np.empty((ny, nx, _K))
+        rows = max(1, min(ny, 16384 // max(nx, 1)))
+        blk = np.empty((_K, rows, nx))
+        for y0 in range(0, ny, rows):
+            y1 = min(ny, y0 + rows)
+            r = y1 - y0
 
-        def at(dy: int, dx: int) -> NDArray[np.float64]:
-            return pad[2 + dy : 2 + dy + ny, 2 + dx : 2 + dx + nx]
+            def at(dy: int, dx: int, a: NDArray[np.float64] = pad) -> NDArray[np.float64]:
+                return a[2 + y0 + dy : 2 + y1 + dy, 2 + dx : 2 + dx + nx]  # noqa: B023
 
-        w = np.empty((ny, nx, _K))
-        for k, (dy, dx) in enumerate(_OFFSETS):
-            if abs(dy) + abs(dx) == 1:
-                w[:, :, k] = at(dy, dx)
-            elif abs(dy) == abs(dx):
-                # no corner cutting: both cells beside the diagonal must be passable
-                side = at(dy, 0) + at(0, dx)
-                w[:, :, k] = np.where(np.isfinite(side), SQRT2 * at(dy, dx), np.inf)
-            else:
-                # a knight's move crosses two cells on its way into a third
-                sy, sx = int(np.sign(dy)), int(np.sign(dx))
-                a = at(sy, 0) if abs(dy) == 2 else at(0, sx)
-                b = at(sy, sx)
-                w[:, :, k] = SQRT5 * (a + b + at(dy, dx)) / 3.0
-        return w.reshape(-1)
+            for k, (dy, dx) in enumerate(_OFFSETS):
+                w = blk[k, :r]
+                if abs(dy) + abs(dx) == 1:
+                    np.copyto(w, at(dy, dx))
+                elif abs(dy) == abs(dx):
+                    np.multiply(at(dy, dx), SQRT2, out=w)
+                    # no corner cutting: both cells beside the diagonal must be passable
+                    np.copyto(w, np.inf, where=at(dy, 0, blocked) | at(0, dx, blocked))
+                else:
+                    # a knight's move crosses two cells on its way into a third
+                    sy, sx = int(np.sign(dy)), int(np.sign(dx))
+                    np.add(at(sy, 0) if abs(dy) == 2 else at(0, sx), at(sy, sx), out=w)
+                    w += at(dy, dx)
+                    w *= SQRT5 / 3.0
+                if h is not None:
+                    w += at(dy, dx, hpad)
+                    w -= at(0, 0, hpad)
+            if h is not None:
+                np.maximum(blk[:, :r], 0.0, out=blk[:, :r])  # rounding: h is consistent
+            out[y0:y1] = blk[:, :r].transpose(1, 2, 0)
+        return out.reshape(-1)
 
     def cached_graph(self, costarr: NDArray[np.uint8]) -> csr_matrix:
         """The graph of `costarr`'s own weights, rebuilt only when the costs change
@@ -130,6 +159,13 @@ def _search(graph: csr_matrix, source: int, limit: float = np.inf) -> NDArray[np
     return dijkstra(graph, directed=True, indices=source, limit=limit)  # type: ignore[no-any-return]
 
 
+#: The first search allows paths this much longer (relative) than the straight line
+#: before it searches again with twice the allowance.
+DETOUR = 0.15
+#: Potential beyond the goal's that is still computed, for the descent around the goal.
+GOAL_BAND = 8 * COST_NEUTRAL
+
+
 def compute_potential(
     graph: GridGraph,
     costarr: NDArray[np.uint8],
@@ -140,42 +176,40 @@ def compute_potential(
 ) -> NDArray[np.float64]:
     """The (ny, nx) potential from the robot cell `start` (mx, my); POT_HIGH where unreached.
 
-    Both searches stop soon after reaching `goal` (as NavFn's do), within a bound that
-    doubles until the goal is reached or every reachable cell has been visited.
+    Both searches stop soon after reaching `goal` (as NavFn's do): a single search
+    bounded by the straight-line cost plus an allowance for detours, which is doubled
+    (and the search repeated) only when the goal lies beyond it.
     """
     ny, nx = costarr.shape
     src = start[1] * nx + start[0]
-    _check(cancel_checker)
-    csr = None
-    ys, xs = np.divmod(np.arange(ny * nx), nx)
     dst = goal[1] * nx + goal[0]
+    _check(cancel_checker)
     straight = COST_NEUTRAL * math.hypot(goal[0] - start[0], goal[1] - start[1])
     # A step never adds more than this, so no reached cell lies beyond the bound by more.
     max_step = 2.0 * COST_OBS * SQRT2
+    h = None
     if use_astar:
-        weights = graph.weights(costarr)
+        ys, xs = np.ogrid[:ny, :nx]
         h = COST_NEUTRAL * np.hypot(xs - goal[0], ys - goal[1])
-        weights = weights + h[graph.indices] - np.repeat(h, _K)
-        np.maximum(weights, 0.0, out=weights)  # rounding only: the heuristic is consistent
-        csr = graph.graph(weights)
-        bound = 0.5 * straight + max_step  # on the reduced distance: the detour allowed
+        csr = graph.graph(graph.weights(costarr, h))
+        base = 0.0  # reduced distances: the goal's is its detour over the straight line
     else:
-        h = np.zeros(ny * nx)
-        bound = 1.5 * straight + max_step
-    # Like NavFn, stop once the goal is reached: search within a bound, doubled as needed.
-    if csr is None:
         csr = graph.cached_graph(costarr)
+        base = straight
+    slack = DETOUR * straight + GOAL_BAND
     while True:
         _check(cancel_checker)
+        bound = base + slack
         dist = _search(csr, src, limit=bound)
         reached = np.isfinite(dist)
         if reached[dst] or dist[reached].max() + max_step < bound:
             break  # found, or the reachable region is exhausted below the bound
-        bound *= 2.0
-    if reached[dst] and dist[dst] + 8 * COST_NEUTRAL > bound:
+        slack *= 2.0
+    if reached[dst] and dist[dst] + GOAL_BAND > bound:
         # a band of a few cells beyond the goal, for the gradient descent around it
-        dist = _search(csr, src, limit=dist[dst] + 8 * COST_NEUTRAL)
-    dist = dist - h + h[src]
+        dist = _search(csr, src, limit=dist[dst] + GOAL_BAND)
+    if h is not None:
+        dist = dist - h.reshape(-1) + h.flat[src]
     dist[~np.isfinite(dist)] = POT_HIGH
     return dist.reshape(ny, nx)
 
