@@ -16,7 +16,7 @@ from btnav.nav.error_codes import FollowPathError, SmoothPathError
 from btnav.nav.smoother_server import SmoothPathGoal
 from btnav.nav.stack import NavStack
 
-from .navstack_helpers import office, plan
+from .navstack_helpers import DWB, office, params_with_controller, plan
 
 GOAL = Pose2D(3.0, 1.0, 0.0)
 
@@ -144,3 +144,29 @@ def test_inflation_radius_changes_the_local_costmap_mid_run():
     assert int((stack.local_costmap.costmap.costs > FREE_SPACE).sum()) < inflated_before
     assert stack.local_costmap.costmap_ros.layer("inflation_layer").params.inflation_radius == 0.3
     assert h.active
+
+
+def test_a_path_is_set_once_and_only_refreshed_as_map_to_odom_moves(tmp_path):
+    """Nav2 calls setPlan for a new path only; DWB's critics keep their state in between."""
+    _w, rt, stack = office(params_with_controller(tmp_path, DWB))
+    path = plan(rt, GOAL).result.value
+    rt.action_client("follow_path").send_goal(FollowPathGoal(path))
+    rt.spin_for(0.2)  # the controller exists once the goal has started
+    controller = stack.controller_server.controller
+    calls = {"set": 0, "refresh": 0}
+    set_plan, refresh_plan = controller.set_plan, controller.refresh_plan
+
+    def counting_set(p):
+        calls["set"] += 1
+        set_plan(p)
+
+    def counting_refresh(p):
+        calls["refresh"] += 1
+        refresh_plan(p)
+
+    controller.set_plan, controller.refresh_plan = counting_set, counting_refresh
+    rt.spin_for(3.0)  # odometry drifts, the localiser moves map -> odom
+    assert calls["set"] == 0 and calls["refresh"] > 0
+    rt.action_client("follow_path").send_goal(FollowPathGoal(plan(rt, GOAL).result.value))
+    rt.spin_for(0.2)
+    assert calls["set"] == 1

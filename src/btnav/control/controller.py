@@ -29,7 +29,13 @@ class Controller:
         self.params = params
 
     def set_plan(self, path: Path) -> None:
+        """A new path to follow (Nav2's setPlan: a controller may reset its state)."""
         raise NotImplementedError
+
+    def refresh_plan(self, path: Path) -> None:
+        """The same path re-expressed in the costmap frame after `map -> odom` moved:
+        a controller keeps its state (the default treats it as a new path)."""
+        self.set_plan(path)
 
     def compute_velocity_commands(
         self, pose: Pose2D, velocity: Twist, costmap: Costmap2D, goal_checker: Any = None

@@ -237,6 +237,7 @@ class ControllerServer(ActionServer[FollowPathGoal]):
         self.path_handler.set_plan(path)
         self.goal_checker.reset()
         self._fed_transform = None
+        self._fed_plan = None
         return None
 
     def _feed_controller(self, plan_to_costmap: Pose2D) -> None:
@@ -251,7 +252,11 @@ class ControllerServer(ActionServer[FollowPathGoal]):
         ):
             return
         poses = compose_arrays(plan_to_costmap.as_array(), np.asarray(plan, float))
-        self.controller.set_plan(Path(self.runtime.now, poses, self.costmap.global_frame))
+        msg = Path(self.runtime.now, poses, self.costmap.global_frame)
+        if self._fed_plan is self.path_handler.global_plan:
+            self.controller.refresh_plan(msg)  # only map -> odom moved: keep its state
+        else:
+            self.controller.set_plan(msg)
         self._fed_transform = plan_to_costmap
         self._fed_plan = self.path_handler.global_plan
 

@@ -198,6 +198,13 @@ class DWBLocalPlanner(Controller):
         for c in self.critics:
             c.reset()
 
+    def refresh_plan(self, path: Path) -> None:
+        """The same plan after `map -> odom` moved: the critics keep their state."""
+        poses = np.asarray(path.poses, float).reshape(-1, 3)
+        if len(poses) == 0:
+            raise InvalidPath("Received plan with zero length")
+        self._plan = poses
+
     def reset(self) -> None:
         for c in self.critics:
             c.reset()
