@@ -170,3 +170,26 @@ def test_a_path_is_set_once_and_only_refreshed_as_map_to_odom_moves(tmp_path):
     rt.action_client("follow_path").send_goal(FollowPathGoal(plan(rt, GOAL).result.value))
     rt.spin_for(0.2)
     assert calls["set"] == 1
+
+
+def test_the_stack_serves_nav2s_behaviors_on_its_local_costmap():
+    from btnav.behaviors import SpinGoal
+    from btnav.nav.error_codes import SpinError
+
+    world, rt, stack = office()
+    assert set(stack.behavior_server.servers) == {"spin", "backup", "drive_on_heading", "wait"}
+    assert stack.behavior_server.not_implemented == ["assisted_teleop"]
+    rt.spin_for(0.5)  # the local costmap has seen the walls
+    h = rt.action_client("spin").send_goal(SpinGoal(target_yaw=1.57, time_allowance=10.0))
+    assert rt.run_until(lambda: h.done, 15.0)
+    assert h.succeeded and h.error_code == SpinError.NONE
+    assert world.collisions == 0
+
+
+def test_behavior_server_takes_new_parameters_live():
+    _w, _rt, stack = office()
+    stack.set_parameters(
+        "behavior_server", {"max_rotational_vel": 0.5, "backup.minimum_speed": 0.05}
+    )
+    assert stack.behavior_server.behaviors["spin"].server.max_rotational_vel == 0.5
+    assert stack.behavior_server.behaviors["backup"].params.minimum_speed == 0.05

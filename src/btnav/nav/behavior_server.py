@@ -85,6 +85,15 @@ class BehaviorServer:
             return CollisionChecker(costmap)
         return CollisionChecker(costmap, to_costmap=lambda: self.runtime.lookup(frame, local))
 
+    def set_parameters(self, params: ServerParams) -> None:
+        """Apply params `validate_update` accepted: server keys and each behaviour's section."""
+        self.params = params.model
+        for name, behavior in self.behaviors.items():
+            behavior.server = params.model
+            section = params.plugins.get(name)
+            if section is not None and section.params is not None:
+                behavior.params = section.params
+
     def update(self, now: float) -> None:
         for server in self.servers.values():
             server.update(now)

@@ -4,10 +4,10 @@
 Nav2 writes it: map_server (the mission's map, else `yaml_filename`), the global
 costmap (in `map`, static + obstacle + inflation for Nav2's file) and the local
 costmap (rolling in `odom`) as components at their `update_frequency`, and the
-planner, controller and smoother servers with their actions
+planner, controller, smoother and behavior servers with their actions
 (`compute_path_to_pose`, `compute_path_through_poses`, `follow_path`,
-`smooth_path`). The localiser (`runtime.use_localizer`) and behavior_server are
-added by their owners.
+`smooth_path`, `spin`, `backup`, `drive_on_heading`, `wait`). The localiser
+(`runtime.use_localizer`) is the mission's choice and is added by its owner.
 
 `stack.set_parameters("local_costmap", {"inflation_layer.inflation_radius": 0.5})`
 is Nav2's dynamic parameters: validated like the file (`params.validate_update`;
@@ -25,6 +25,7 @@ from ..maps.occupancy_grid import OccupancyGrid
 from ..params.loader import load_params
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.updates import validate_update
+from .behavior_server import BehaviorServer
 from .controller_server import ControllerServer
 from .costmap_server import CostmapServer
 from .map_server import MapServer
@@ -44,6 +45,7 @@ class NavStack:
         planner_server: PlannerServer,
         controller_server: ControllerServer,
         smoother_server: SmootherServer,
+        behavior_server: BehaviorServer,
     ) -> None:
         self.runtime = runtime
         self.params = params
@@ -53,6 +55,7 @@ class NavStack:
         self.planner_server = planner_server
         self.controller_server = controller_server
         self.smoother_server = smoother_server
+        self.behavior_server = behavior_server
         #: Servers by their params-file name, for set_parameters.
         self.servers: dict[str, Any] = {
             "global_costmap": global_costmap,
@@ -60,6 +63,7 @@ class NavStack:
             "planner_server": planner_server,
             "controller_server": controller_server,
             "smoother_server": smoother_server,
+            "behavior_server": behavior_server,
         }
 
     @classmethod
@@ -90,8 +94,22 @@ class NavStack:
         smoother = runtime.add(
             SmootherServer(runtime, pf.server("smoother_server"), global_costmap, seed=seed)
         )
+        behaviors = BehaviorServer(
+            runtime,
+            pf.server("behavior_server"),
+            local_costmap=local_costmap,
+            global_costmap=global_costmap,
+        )
         return cls(
-            runtime, pf, map_server, global_costmap, local_costmap, planner, controller, smoother
+            runtime,
+            pf,
+            map_server,
+            global_costmap,
+            local_costmap,
+            planner,
+            controller,
+            smoother,
+            behaviors,
         )
 
     # -- dynamic parameters ---------------------------------------------------------------
