@@ -7,10 +7,10 @@ import math
 import pytest
 
 from btnav.behaviors import BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
+from btnav.core.error_codes import BackUpError, DriveOnHeadingError, SpinError, WaitError
 from btnav.core.errors import ParamsError
 from btnav.core.geometry import angle_diff
 from btnav.nav import GoalStatus
-from btnav.nav.error_codes import BackUpError, DriveOnHeadingError, SpinError, WaitError
 from btnav.params import load_params
 
 from .stack import NAV2_PARAMS, make_stack, nav2_doc, params_from, write_world

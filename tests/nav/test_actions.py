@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import pytest
 
+from btnav.core.error_codes import FollowPathError, WaitError
 from btnav.core.errors import UnknownNameError
 from btnav.core.resources import bundled_dir
 from btnav.nav import ActionServer, GoalHandle, GoalStatus, NavResult, Runtime
-from btnav.nav.error_codes import FollowPathError, WaitError
 from btnav.sim.world import World
 
 

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from btnav.core.error_codes import ComputePathToPoseError
 from btnav.core.geometry import Pose2D
 from btnav.costmap.cost_values import LETHAL_OBSTACLE
 from btnav.nav import GoalStatus
-from btnav.nav.error_codes import ComputePathToPoseError
 
 from .navstack_helpers import (
     DWB,

@@ -12,7 +12,7 @@ from btnav.core.geometry import Pose2D
 from btnav.costmap.costmap_2d import Costmap2D
 from btnav.params import load_params
 from btnav.planning.exceptions import (
-    ComputePathToPoseCode,
+    ComputePathToPoseError,
     GoalOccupied,
     GoalOutsideMapBounds,
     NoValidPathCouldBeFound,
@@ -188,15 +188,15 @@ def test_error_codes() -> None:
     for start, goal, exc, code in cases:
         with pytest.raises(exc) as info:
             p0.create_plan(start, goal, cm)
-        assert info.value.error_code == code == ComputePathToPoseCode(code)
+        assert info.value.error_code == code == ComputePathToPoseError(code)
         assert isinstance(info.value, PlannerException)
     closed = wall_with_door((0, 0))
     with pytest.raises(NoValidPathCouldBeFound) as info:
         p0.create_plan(Pose2D(0.5, 0.5), Pose2D(4.5, 0.5), closed)
-    assert info.value.error_code == ComputePathToPoseCode.NO_VALID_PATH == 208
+    assert info.value.error_code == ComputePathToPoseError.NO_VALID_PATH == 208
     with pytest.raises(PlannerCancelled) as info:
         p0.create_plan(Pose2D(0.5, 0.5), Pose2D(4.5, 0.5), cm, cancel_checker=lambda: True)
-    assert info.value.error_code == ComputePathToPoseCode.TIMEOUT == 207
+    assert info.value.error_code == ComputePathToPoseError.TIMEOUT == 207
 
 
 def test_tolerance_reaches_closest_point_to_an_unreachable_goal() -> None:

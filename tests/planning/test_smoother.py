@@ -11,7 +11,7 @@ from btnav.core.geometry import Pose2D
 from btnav.core.messages import Path
 from btnav.costmap.costmap_2d import Costmap2D
 from btnav.params import load_params
-from btnav.planning.exceptions import InvalidPath, SmootherTimedOut, SmoothPathCode
+from btnav.planning.exceptions import InvalidPath, SmootherTimedOut, SmoothPathError
 from btnav.planning.navfn_planner import NavfnPlanner
 from btnav.planning.simple_smoother import SimpleSmoother, directional_segments
 from btnav.plugins import lookup
@@ -96,7 +96,7 @@ def test_path_inversion_splits_at_cusps() -> None:
 def test_codes_timeout_and_invalid() -> None:
     with pytest.raises(SmootherTimedOut) as info:
         SimpleSmoother("s").smooth(staircase(), cancel_checker=lambda: True)
-    assert info.value.error_code == SmoothPathCode.TIMEOUT == 502
+    assert info.value.error_code == SmoothPathError.TIMEOUT == 502
     with pytest.raises(InvalidPath) as bad:
         SimpleSmoother("s").smooth(Path(0.0, np.zeros((3, 2))))
     assert bad.value.error_code == 505

@@ -10,21 +10,7 @@ The codes are FollowPath.action's result constants (nav2_msgs), in its priority 
 
 from __future__ import annotations
 
-from enum import IntEnum
-
-
-class FollowPathError(IntEnum):
-    """nav2_msgs/action/FollowPath result error codes."""
-
-    NONE = 0
-    UNKNOWN = 100
-    INVALID_CONTROLLER = 101
-    TF_ERROR = 102
-    INVALID_PATH = 103
-    PATIENCE_EXCEEDED = 104
-    FAILED_TO_MAKE_PROGRESS = 105
-    NO_VALID_CONTROL = 106
-    CONTROLLER_TIMED_OUT = 107
+from ..core.error_codes import FollowPathError
 
 
 class ControllerException(RuntimeError):

@@ -29,9 +29,9 @@ from enum import IntEnum
 from itertools import count
 from typing import Any, Generic, TypeVar
 
+from ..core.error_codes import ERROR_CODES, NavResult, Outcome
 from ..core.errors import UnknownNameError
 from ..core.suggest import best_match
-from .error_codes import ERROR_CODES, NavResult, Outcome
 
 G = TypeVar("G")
 

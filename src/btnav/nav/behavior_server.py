@@ -27,11 +27,11 @@ from .. import plugins as registry
 from ..behaviors import plugins as _builtin_behaviors  # noqa: F401  (registers them)
 from ..behaviors.behavior import Behavior, BehaviorOutcome
 from ..behaviors.collision import CollisionChecker
+from ..core.error_codes import ERROR_CODES, NavResult, Outcome
 from ..params.navigation import BehaviorServerParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.schema import validate_section
 from .actions import ActionServer, GoalHandle
-from .error_codes import ERROR_CODES, NavResult, Outcome
 from .runtime import Stage
 
 

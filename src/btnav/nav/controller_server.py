@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..control.exceptions import ControllerException, NoValidControl
+from ..core.error_codes import FollowPathError, NavResult
 from ..core.errors import FrameError
 from ..core.frames import MAP
 from ..core.geometry import Pose2D, angle_diff, compose_arrays
@@ -42,7 +43,6 @@ from ..core.messages import Path, Twist
 from ..params.paramsfile import ServerParams
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
-from .error_codes import FollowPathError, NavResult
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugin, make_plugins, pick
 

@@ -24,6 +24,12 @@ from typing import Any
 
 import numpy as np
 
+from ..core.error_codes import (
+    ComputePathThroughPosesError,
+    ComputePathToPoseError,
+    NavErrorCode,
+    NavResult,
+)
 from ..core.errors import FrameError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
@@ -31,12 +37,6 @@ from ..params.paramsfile import ServerParams
 from ..planning.exceptions import PlannerException
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
-from .error_codes import (
-    ComputePathThroughPosesError,
-    ComputePathToPoseError,
-    NavErrorCode,
-    NavResult,
-)
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugins, pick
 

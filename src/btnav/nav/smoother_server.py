@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.error_codes import NavResult, SmoothPathError
 from ..core.messages import Path
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from ..params.paramsfile import ServerParams
@@ -22,7 +23,6 @@ from ..planning.exceptions import SmootherException
 from ..planning.smoother import Smoothed
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
-from .error_codes import NavResult, SmoothPathError
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugins, pick
 

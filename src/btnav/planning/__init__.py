@@ -1,19 +1,19 @@
 """Global planners (NavFn, ...) and path smoothers."""
 
 from .exceptions import (
-    ComputePathToPoseCode,
+    ComputePathToPoseError,
     PlannerException,
     SmootherException,
-    SmoothPathCode,
+    SmoothPathError,
 )
 from .global_planner import GlobalPlanner
 from .smoother import Smoothed, Smoother
 
 __all__ = [
-    "ComputePathToPoseCode",
+    "ComputePathToPoseError",
     "GlobalPlanner",
     "PlannerException",
-    "SmoothPathCode",
+    "SmoothPathError",
     "Smoothed",
     "Smoother",
     "SmootherException",

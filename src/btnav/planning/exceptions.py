@@ -9,41 +9,15 @@ SmoothPath.action.
 
 from __future__ import annotations
 
-from enum import IntEnum
 from typing import ClassVar
 
-
-class ComputePathToPoseCode(IntEnum):
-    """ComputePathToPose.action's error codes."""
-
-    NONE = 0
-    UNKNOWN = 200
-    INVALID_PLANNER = 201
-    TF_ERROR = 202
-    START_OUTSIDE_MAP = 203
-    GOAL_OUTSIDE_MAP = 204
-    START_OCCUPIED = 205
-    GOAL_OCCUPIED = 206
-    TIMEOUT = 207
-    NO_VALID_PATH = 208
-
-
-class SmoothPathCode(IntEnum):
-    """SmoothPath.action's error codes."""
-
-    NONE = 0
-    UNKNOWN = 500
-    INVALID_SMOOTHER = 501
-    TIMEOUT = 502
-    SMOOTHED_PATH_IN_COLLISION = 503
-    FAILED_TO_SMOOTH_PATH = 504
-    INVALID_PATH = 505
+from ..core.error_codes import ComputePathToPoseError, SmoothPathError
 
 
 class PlannerException(Exception):
     """nav2_core::PlannerException: a planning failure, carrying its ComputePathToPose code."""
 
-    error_code: ClassVar[ComputePathToPoseCode] = ComputePathToPoseCode.UNKNOWN
+    error_code: ClassVar[ComputePathToPoseError] = ComputePathToPoseError.UNKNOWN
 
     @property
     def error_msg(self) -> str:
@@ -51,31 +25,31 @@ class PlannerException(Exception):
 
 
 class InvalidPlanner(PlannerException):
-    error_code = ComputePathToPoseCode.INVALID_PLANNER
+    error_code = ComputePathToPoseError.INVALID_PLANNER
 
 
 class PlannerTFError(PlannerException):
-    error_code = ComputePathToPoseCode.TF_ERROR
+    error_code = ComputePathToPoseError.TF_ERROR
 
 
 class StartOutsideMapBounds(PlannerException):
-    error_code = ComputePathToPoseCode.START_OUTSIDE_MAP
+    error_code = ComputePathToPoseError.START_OUTSIDE_MAP
 
 
 class GoalOutsideMapBounds(PlannerException):
-    error_code = ComputePathToPoseCode.GOAL_OUTSIDE_MAP
+    error_code = ComputePathToPoseError.GOAL_OUTSIDE_MAP
 
 
 class StartOccupied(PlannerException):
-    error_code = ComputePathToPoseCode.START_OCCUPIED
+    error_code = ComputePathToPoseError.START_OCCUPIED
 
 
 class GoalOccupied(PlannerException):
-    error_code = ComputePathToPoseCode.GOAL_OCCUPIED
+    error_code = ComputePathToPoseError.GOAL_OCCUPIED
 
 
 class PlannerTimedOut(PlannerException):
-    error_code = ComputePathToPoseCode.TIMEOUT
+    error_code = ComputePathToPoseError.TIMEOUT
 
 
 class PlannerCancelled(PlannerTimedOut):
@@ -88,13 +62,13 @@ class PlannerCancelled(PlannerTimedOut):
 
 
 class NoValidPathCouldBeFound(PlannerException):
-    error_code = ComputePathToPoseCode.NO_VALID_PATH
+    error_code = ComputePathToPoseError.NO_VALID_PATH
 
 
 class SmootherException(Exception):
     """nav2_core::SmootherException: a smoothing failure, carrying its SmoothPath code."""
 
-    error_code: ClassVar[SmoothPathCode] = SmoothPathCode.UNKNOWN
+    error_code: ClassVar[SmoothPathError] = SmoothPathError.UNKNOWN
 
     @property
     def error_msg(self) -> str:
@@ -102,20 +76,20 @@ class SmootherException(Exception):
 
 
 class InvalidSmoother(SmootherException):
-    error_code = SmoothPathCode.INVALID_SMOOTHER
+    error_code = SmoothPathError.INVALID_SMOOTHER
 
 
 class SmootherTimedOut(SmootherException):
-    error_code = SmoothPathCode.TIMEOUT
+    error_code = SmoothPathError.TIMEOUT
 
 
 class SmoothedPathInCollision(SmootherException):
-    error_code = SmoothPathCode.SMOOTHED_PATH_IN_COLLISION
+    error_code = SmoothPathError.SMOOTHED_PATH_IN_COLLISION
 
 
 class FailedToSmoothPath(SmootherException):
-    error_code = SmoothPathCode.FAILED_TO_SMOOTH_PATH
+    error_code = SmoothPathError.FAILED_TO_SMOOTH_PATH
 
 
 class InvalidPath(SmootherException):
-    error_code = SmoothPathCode.INVALID_PATH
+    error_code = SmoothPathError.INVALID_PATH

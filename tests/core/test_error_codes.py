@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from btnav.core.errors import UnknownNameError
-from btnav.nav import ERROR_CODES, NavResult, Outcome, error_codes, error_message
-from btnav.nav.error_codes import (
+from btnav.core.error_codes import (
     BackUpError,
     ComputePathThroughPosesError,
     ComputePathToPoseError,
@@ -20,6 +18,8 @@ from btnav.nav.error_codes import (
     WaitError,
     error_name,
 )
+from btnav.core.errors import UnknownNameError
+from btnav.nav import ERROR_CODES, NavResult, Outcome, error_codes, error_message
 
 
 def test_every_action_btnav_serves_has_a_table():

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from enum import Enum, IntEnum
 from typing import Any
 
-from ..core.errors import UnknownNameError
-from ..core.suggest import best_match
+from .errors import UnknownNameError
+from .suggest import best_match
 
 
 class NavErrorCode(IntEnum):
