@@ -1,0 +1,57 @@
+"""Nav2's decorators that need no server (nav2_behavior_tree/plugins/decorator), on sim time."""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
+from py_trees.ports import PortInformation
+
+from ..plugins import register
+from .base import TIME_EPS, DecoratorNode, TickGen
+
+S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+
+
+@register("bt_node", "RateController")
+class RateController(DecoratorNode):
+    """Tick the child at most `hz` times a second of sim time.
+
+    The child is ticked on the first tick of a run, whenever the period has passed
+    since the child last succeeded, and on every tick while it is RUNNING. Between
+    those ticks the node returns RUNNING (Nav2's `return status()`).
+    """
+
+    INPUT_PORTS: ClassVar = {
+        "hz": PortInformation(
+            float,
+            required=False,
+            default_value=10.0,
+            description="Rate to throttle an action or a group of actions.",
+        ),
+    }
+    INJECT: ClassVar = ("clock",)
+
+    def __init__(self, name: str, child: Behaviour, clock: Any = None, **kwargs: Any):
+        super().__init__(name=name, child=child, **kwargs)
+        self.clock = clock
+
+    def reset_state(self) -> None:
+        self.start = 0.0
+        self.period = 0.1
+        self.first_time = False
+
+    def tick_decorated(self) -> TickGen:
+        if self.status == Status.INVALID:  # a new run (BT.CPP: status not active)
+            self.period = 1.0 / self.port("hz")
+            self.start = self.now()
+            self.first_time = True
+        elapsed = self.now() - self.start
+        if self.first_time or self.decorated.status == R or elapsed + TIME_EPS >= self.period:
+            self.first_time = False
+            status = yield from self.tick_child()
+            if status == S:
+                self.start = self.now()
+            return status
+        return R
