@@ -71,3 +71,15 @@ def test_world_frames_prints_rep105_and_the_sensors(capsys):
     out = capsys.readouterr().out
     for frame in ("map", "odom", "base_footprint", "base_link", "laser"):
         assert frame in out
+
+
+def test_tree_import_and_show_through_the_command(nav2_dir, tmp_path):
+    xml = nav2_dir / "behavior_trees" / "navigate_to_pose_w_replanning_and_recovery.xml"
+    out = tmp_path / "nav.yaml"
+    proc = run_cli("tree", "import", str(xml), "-o", str(out))
+    assert proc.returncode == 0, proc.stderr
+    assert "RecoveryNode" in out.read_text()
+    proc = run_cli("tree", "show", "navigate_to_pose_w_replanning_and_recovery")
+    assert proc.returncode == 0 and "ComputePathToPose" in proc.stdout
+    proc = run_cli("tree", "show", "navigate_to_pose_w_replanning_and_recovry")
+    assert proc.returncode == 2 and "did you mean" in proc.stderr and "Traceback" not in proc.stderr

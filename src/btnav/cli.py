@@ -35,6 +35,18 @@ def _world_show(args: argparse.Namespace) -> int:
     return show_world_main(args.world, args.output)
 
 
+def _tree_import(args: argparse.Namespace) -> int:
+    from .bt.tree_cli import tree_import_main
+
+    return tree_import_main(args.tree, args.output)
+
+
+def _tree_show(args: argparse.Namespace) -> int:
+    from .bt.tree_cli import tree_show_main
+
+    return tree_show_main(args.tree)
+
+
 def _frames_of_world(args: argparse.Namespace) -> int:
     from .sim.frames import world_frame_tree
 
@@ -70,6 +82,16 @@ def build_parser() -> argparse.ArgumentParser:
     fw.add_argument("-o", "--output", required=True, help="the map .yaml to write (and its .pgm)")
     fw.add_argument("--resolution", type=float, default=0.05, help="metres per cell (0.05)")
     fw.set_defaults(func=_map_from_world)
+
+    tree = sub.add_parser("tree", help="behaviour trees (Nav2 XML or btnav YAML)")
+    tree_sub = tree.add_subparsers(dest="tree_command", required=True, parser_class=_Parser)
+    imp = tree_sub.add_parser("import", help="spell a Nav2 XML tree in btnav's YAML")
+    imp.add_argument("tree", help="the Nav2 .xml file")
+    imp.add_argument("-o", "--output", help="the .yaml to write (default: print it)")
+    imp.set_defaults(func=_tree_import)
+    show = tree_sub.add_parser("show", help="print a tree with its ports")
+    show.add_argument("tree", help="a .xml/.yaml file or a bundled tree's name")
+    show.set_defaults(func=_tree_show)
 
     world = sub.add_parser("world", help="simulation worlds")
     world_sub = world.add_subparsers(dest="world_command", required=True, parser_class=_Parser)

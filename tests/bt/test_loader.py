@@ -84,13 +84,16 @@ BRIEF_XML = """\
 
 @pytest.fixture
 def wait_leaf() -> Iterator[None]:
-    """A stand-in `Wait` leaf (the real one is an action node, next step)."""
+    """A stand-in `Wait` leaf that succeeds at once (the real one needs a behavior server);
+    btnav's own Wait is put back afterwards."""
+    real = plugins.lookup("bt_node", "Wait")
     cls = stub_class(
         "Wait", {"kind": "Action", "ports": {"wait_duration": ("in", "double", "1.0")}}
     )
     plugins.register("bt_node", "Wait")(cls)
     yield
     plugins.unregister("bt_node", "Wait")
+    plugins.register("bt_node", "Wait")(real)
 
 
 def test_yaml_and_xml_build_identical_trees(wait_leaf: None) -> None:

@@ -1,0 +1,91 @@
+"""Nav2's selector nodes: which planner, controller, goal checker, ... the tree uses.
+
+Each writes the last id received on its topic (`topic_name`, a std_msgs/String: a
+`str` or anything with `.data`, published on the runtime) to its output port, or its
+default when nothing was received; with neither it fails ("required selection"
+mode). The subscription is made on the first tick with a runtime, as Nav2 makes it
+when the node initialises.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from py_trees.common import Status
+from py_trees.ports import PortInformation
+
+from ..plugins import register
+from .nav2_context import Nav2Leaf
+
+
+class _Selector(Nav2Leaf):
+    #: (kind) e.g. "planner": ports `default_planner`, `selected_planner`, topic `planner_selector`.
+    KIND: ClassVar[str] = ""
+
+    def __init__(self, name: str, **kwargs: Any) -> None:
+        super().__init__(name=name, **kwargs)
+        self.last_selected = ""
+        self.topic: str | None = None
+
+    @classmethod
+    def ports_for(cls, kind: str, label: str) -> tuple[dict[str, Any], dict[str, Any]]:
+        inputs = {
+            "topic_name": PortInformation(
+                str,
+                required=False,
+                default_value=f"{kind}_selector",
+                description="The topic the selection arrives on",
+            ),
+            f"default_{kind}": PortInformation(
+                str, required=False, description=f"The {label} used until one is selected"
+            ),
+        }
+        outputs = {
+            f"selected_{kind}": PortInformation(
+                str, required=False, description=f"The selected {label} id"
+            ),
+        }
+        return inputs, outputs
+
+    def _on_select(self, msg: Any) -> None:
+        self.last_selected = str(getattr(msg, "data", msg))
+
+    def update(self) -> Status:
+        topic = self.get_input("topic_name")
+        if self.runtime is not None and topic != self.topic:
+            self.topic = topic
+            self.runtime.subscribe(topic, self._on_select)
+        if not self.last_selected:
+            default = self.optional(f"default_{self.KIND}")
+            if not default:
+                self.feedback_message = f"no {self.KIND} selected and no default_{self.KIND}"
+                return Status.FAILURE
+            self.last_selected = default
+        self._set_output(f"selected_{self.KIND}", self.last_selected)
+        return Status.SUCCESS
+
+
+def _selector(node_id: str, kind: str, label: str) -> type[_Selector]:
+    inputs, outputs = _Selector.ports_for(kind, label)
+    cls = type(
+        node_id,
+        (_Selector,),
+        {
+            "KIND": kind,
+            "INPUT_PORTS": inputs,
+            "OUTPUT_PORTS": outputs,
+            "__doc__": f"Nav2's {node_id}: the {label} id for the nodes that take one.",
+            "__module__": __name__,
+        },
+    )
+    return register("bt_node", node_id)(cls)
+
+
+PlannerSelector = _selector("PlannerSelector", "planner", "planner")
+ControllerSelector = _selector("ControllerSelector", "controller", "controller")
+SmootherSelector = _selector("SmootherSelector", "smoother", "smoother")
+GoalCheckerSelector = _selector("GoalCheckerSelector", "goal_checker", "goal checker")
+ProgressCheckerSelector = _selector(
+    "ProgressCheckerSelector", "progress_checker", "progress checker"
+)
+PathHandlerSelector = _selector("PathHandlerSelector", "path_handler", "path handler")

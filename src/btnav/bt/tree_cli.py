@@ -1,0 +1,235 @@
+"""`btnav tree import TREE.xml [-o TREE.yaml]` and `btnav tree show TREE`.
+
+Both raise a `BtnavError` for a user's mistake (the CLI prints it and exits 2) and
+return 0 otherwise.
+"""
+
+from __future__ import annotations
+
+import sys
+import xml.etree.ElementTree as ET
+from collections.abc import Iterator
+from os import PathLike
+from pathlib import Path
+from typing import TextIO
+
+from py_trees.behaviour import Behaviour
+
+from ..core.clock import SimClock
+from ..core.files import read_bytes
+from .bundled import find_tree
+from .display import tree_text
+from .document import TreeDocument
+from .errors import TreeError
+from .loader import build_tree, load_document
+from .registry import node_category, node_types
+from .validate import SUBTREE_TAGS, unknown_node_types
+from .xml_to_yaml import element_counts, import_xml
+
+EXIT_OK = 0
+
+# --- tree import ----------------------------------------------------------------------
+
+
+def tree_import_main(
+    xml_path: str | PathLike[str],
+    out_path: str | PathLike[str] | None = None,
+    *,
+    out: TextIO | None = None,
+    err: TextIO | None = None,
+) -> int:
+    """Write `xml_path` (Nav2 / BT.CPP XML) as btnav YAML to `out_path`, or print it.
+
+    Node types btnav does not register are listed on stderr: the file imports, and
+    loads once they are registered.
+    """
+    out = out or sys.stdout
+    err = err or sys.stderr
+    src = Path(xml_path)
+    if src.suffix.lower() in (".yaml", ".yml"):
+        raise TreeError("`tree import` reads Nav2 XML; this file is YAML already", file=src)
+    text = read_bytes(src, error_cls=TreeError, what="tree file")
+    header = [f"Imported from {src.name} by `btnav tree import`."]
+    yaml_text = import_xml(text, src, header=header)
+    doc = load_document(yaml_text)
+    missing = unknown_node_types(doc, node_types())
+    if out_path is None:
+        out.write(yaml_text)
+    else:
+        dst = Path(out_path)
+        if dst.exists() and dst.resolve() == src.resolve():
+            raise TreeError("the output would overwrite the XML it reads", file=dst)
+        try:
+            dst.write_text(yaml_text, encoding="utf-8")
+        except OSError as exc:
+            raise TreeError(f"cannot write: {exc.strerror or exc}", file=dst) from None
+        counts = element_counts(doc)
+        trees = ", ".join(f"{t} ({n} nodes)" for t, n in counts.items())
+        out.write(f"wrote {dst}: main tree {doc.main_tree}; trees: {trees}\n")
+    if missing:
+        err.write(
+            f"note: btnav has no node types {', '.join(missing)} yet; "
+            "the tree loads once they are registered\n"
+        )
+    return EXIT_OK
+
+
+# --- tree show --------------------------------------------------------------------------
+
+
+def tree_show_main(
+    tree: str | PathLike[str],
+    *,
+    base_dir: str | PathLike[str] | None = None,
+    out: TextIO | None = None,
+) -> int:
+    """Print the tree `tree` (a path, or the bare name of a bundled tree) with its ports."""
+    out = out or sys.stdout
+    out.write(show_tree(find_tree(tree, base_dir=base_dir)))
+    return EXIT_OK
+
+
+def show_tree(path: str | PathLike[str]) -> str:
+    """The text `tree show` prints for a tree file.
+
+    When every node type is registered the tree is validated and built, and each line
+    of py_trees' display gets the node's ports (`port=value`). Otherwise the file's
+    structure is shown with its ports, and the node types btnav lacks are listed.
+    """
+    doc = load_document(path)
+    missing = unknown_node_types(doc, node_types())
+    main = doc.main_tree
+    head = f"{path}: main tree {main}" if main else f"{path}"
+    if missing:
+        body = structure_text(doc)
+        foot = (
+            f"\nnot in btnav ({len(missing)}; the tree cannot be built until they are "
+            f"registered): {', '.join(missing)}\n"
+        )
+        return f"{head}\n{body}{foot}"
+    return f"{head}\n{built_text(doc)}"
+
+
+def ports_text(attrib: dict[str, str]) -> str:
+    """`port=value ...` (values with spaces quoted), `name` left out."""
+    parts = []
+    for port, value in attrib.items():
+        if port == "name":
+            continue
+        shown = f'"{value}"' if (not value or any(c.isspace() for c in value)) else value
+        parts.append(f"{port}={shown}")
+    return " ".join(parts)
+
+
+def _label(elem: ET.Element, attrib: dict[str, str]) -> str:
+    """What a line adds after py_trees' node name: the type when a name hides it, the ports."""
+    bits = []
+    name = attrib.get("name")
+    if name and name != elem.tag:
+        bits.append(f"<{elem.tag}>")
+    ports = ports_text(attrib)
+    if ports:
+        bits.append(ports)
+    return "  ".join(bits)
+
+
+def _expanded(
+    elem: ET.Element, trees: dict[str, ET.Element], subtree: ET.Element | None = None
+) -> Iterator[tuple[ET.Element, ET.Element | None]]:
+    """Elements in the order py_trees builds behaviours: a SubTree is replaced by its tree's root.
+
+    Each comes with the SubTree element it stands for (its root only), else None.
+    """
+    if elem.tag in SUBTREE_TAGS:
+        target = trees[elem.attrib["ID"]]
+        yield from _expanded(target[0], trees, elem)
+        return
+    yield elem, subtree
+    for child in elem:
+        yield from _expanded(child, trees)
+
+
+def _walk(root: Behaviour) -> Iterator[Behaviour]:
+    yield root
+    for child in root.children:
+        yield from _walk(child)
+
+
+def built_text(doc: TreeDocument) -> str:
+    """py_trees' display of the built tree, each line followed by the node's ports."""
+    trees = doc.trees
+    main = doc.main_tree
+    written = {elem: dict(elem.attrib) for elem in doc.root.iter()}  # before build fills defaults
+    root = build_tree(doc, clock=SimClock())
+    lines = tree_text(root).rstrip("\n").split("\n")
+    elems = list(_expanded(trees[main][0], trees)) if main in trees else []
+    behaviours = list(_walk(root))
+    if len(lines) != len(behaviours) or len(elems) != len(behaviours):  # pragma: no cover
+        return tree_text(root) + structure_text(doc)  # the display changed shape: show both
+    out = []
+    for line, (elem, subtree) in zip(lines, elems, strict=True):
+        label = _label(elem, written.get(elem, dict(elem.attrib)))
+        if subtree is not None:
+            sub = written.get(subtree, dict(subtree.attrib))
+            ports = ports_text({k: v for k, v in sub.items() if k != "ID"})
+            label = f"[SubTree {sub.get('ID')}{' ' + ports if ports else ''}]  {label}".rstrip()
+        out.append(f"{line}  {label}" if label else line)
+    unused = [t for t in trees if t != main and not _reached(t, trees, main)]
+    if unused:
+        out.append(f"(trees not used by {main}: {', '.join(unused)})")
+    return "\n".join(out) + "\n"
+
+
+def _reached(tree_id: str, trees: dict[str, ET.Element], main: str | None) -> bool:
+    seen: set[str] = set()
+    todo = [main] if main in trees else []
+    while todo:
+        current = todo.pop()
+        if current in seen:
+            continue
+        seen.add(current)
+        for elem in trees[current].iter():
+            if elem.tag in SUBTREE_TAGS and elem.attrib.get("ID") in trees:
+                todo.append(elem.attrib["ID"])
+    return tree_id in seen
+
+
+def structure_text(doc: TreeDocument) -> str:
+    """Each tree of the file as written (main tree first), with ports; nothing is built.
+
+    Markers: `[+]` control, `-^-` decorator, `-->` leaf, `???` a type btnav lacks (`*`
+    after its name), `>>>` a SubTree.
+    """
+    types = node_types()
+    trees = doc.trees
+    order = sorted(trees, key=lambda t: t != doc.main_tree)
+    out: list[str] = []
+
+    def node(elem: ET.Element, depth: int) -> None:
+        pad = "    " * depth
+        attrib = dict(elem.attrib)
+        if elem.tag in SUBTREE_TAGS:
+            ports = ports_text({k: v for k, v in attrib.items() if k != "ID"})
+            out.append(f"{pad}>>> SubTree {attrib.get('ID')}  {ports}".rstrip())
+            return
+        cls = types.get(elem.tag)
+        if cls is None:
+            marker, tag = "???", f"{elem.tag}*"
+        else:
+            category = node_category(cls)
+            marker = {"control": "[+]", "decorator": "-^-"}.get(category, "-->")
+            tag = elem.tag
+        name = attrib.get("name")
+        title = f"{name} <{tag}>" if name and name != elem.tag else tag
+        ports = ports_text(attrib)
+        out.append(f"{pad}{marker} {title}  {ports}".rstrip())
+        for child in elem:
+            node(child, depth + 1)
+
+    for i, tree_id in enumerate(order):
+        if i:
+            out.append("")
+        out.append(f"tree {tree_id}{' (main)' if tree_id == doc.main_tree else ''}:")
+        for elem in trees[tree_id]:
+            node(elem, 1)
+    return "\n".join(out) + "\n"
