@@ -1,0 +1,355 @@
+"""bt_navigator: NavigateToPose and NavigateThroughPoses, each an action server ticking a tree.
+
+As Nav2's `BtActionServer` does for a new goal: the blackboard gets the goal (`goal`,
+or `goals` for NavigateThroughPoses), every `<prefix>_error_code` of
+`error_code_name_prefixes` is set to 0 and its `_error_msg` to "", and
+`number_recoveries` to 0; then the tree is ticked every `bt_loop_duration` ms of sim
+time until it leaves RUNNING. A failed tree's result carries the lowest non-zero
+`<prefix>_error_code` on the blackboard (Nav2's `populateErrorCode`), else the
+action's UNKNOWN. A cancel halts the tree (its action nodes cancel their servers).
+A new goal for the running navigator preempts it as Nav2's `onPreempt` does: the goal
+on the blackboard changes while the tree keeps running (the tree's GoalUpdated
+replans); a goal naming another tree than the running one is rejected.
+
+Feedback, each tick: `current_pose` (the robot in `global_frame`), `distance_remaining`
+along the blackboard's `path` from the pose of it closest to the robot (within
+`search_window` metres along the path of the last closest pose), `navigation_time`
+(sim seconds since the goal), `estimated_time_remaining` and `number_of_recoveries`.
+The blackboard is py_trees' (process-wide), so one tree runs at a time, as in Nav2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import py_trees
+from py_trees.common import Status
+
+from ..bt import load_tree
+from ..bt.bundled import find_tree
+from ..bt.nav2_context import RECOVERIES_KEY
+from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
+from ..core.geometry import Pose2D
+from ..core.messages import Path
+from ..nav.actions import ActionServer, GoalHandle
+from ..nav.runtime import Runtime, Stage
+from ..params.paramsfile import ParamsFile, ServerParams
+
+Blackboard = py_trees.blackboard.Blackboard
+
+
+@dataclass
+class NavigateToPoseGoal:
+    pose: Any  # Pose2D, PoseStamped or (x, y, yaw)
+    behavior_tree: str = ""
+
+
+@dataclass
+class NavigateThroughPosesGoal:
+    poses: list[Any] = field(default_factory=list)
+    behavior_tree: str = ""
+
+
+@dataclass
+class NavigateToPoseFeedback:
+    current_pose: Pose2D
+    navigation_time: float
+    estimated_time_remaining: float
+    number_of_recoveries: int
+    distance_remaining: float
+
+
+@dataclass
+class NavigateThroughPosesFeedback(NavigateToPoseFeedback):
+    number_of_poses_remaining: int = 0
+
+
+def _pose(value: Any) -> Any:
+    return value if hasattr(value, "x") or hasattr(value, "pose") else Pose2D(*value)
+
+
+def _bb_get(key: str, default: Any = None) -> Any:
+    try:
+        return Blackboard.get("/" + key)
+    except KeyError:
+        return default
+
+
+def _bb_set(key: str, value: Any) -> None:
+    Blackboard.set("/" + key, value)
+
+
+class Navigator(ActionServer[Any]):
+    """One of bt_navigator's navigators: an action server that runs a tree per goal."""
+
+    stage = Stage.NAVIGATOR
+    goal_type: type = NavigateToPoseGoal
+    feedback_type: type = NavigateToPoseFeedback
+
+    def __init__(self, action: str, name: str, bt: BtNavigator, default_tree: str) -> None:
+        super().__init__(action, name, rate=1000.0 / bt.params.bt_loop_duration)
+        self.bt = bt
+        self.default_tree = default_tree
+        self.tree_file: str | None = None
+        self.root: Any = None
+        self.start_time = 0.0
+        self._closest = 0  # index of the path pose closest to the robot
+        self._path: Path | None = None
+        self.ticks = 0
+        self._cancel_deadline: float | None = None
+
+    # -- the tree -------------------------------------------------------------------------
+
+    def _load(self, tree: str) -> None:
+        name = tree or self.default_tree
+        path = str(find_tree(name, base_dir=self.bt.base_dir))
+        if path != self.tree_file or self.bt.params.always_reload_bt_xml:
+            self.root = load_tree(path, clock=self.bt.runtime.clock, context=self.bt.context)
+            self.tree_file = path
+
+    def _halt(self) -> None:
+        if self.root is not None and self.root.status == Status.RUNNING:
+            self.root.stop(Status.INVALID)
+
+    # -- goals ------------------------------------------------------------------------------
+
+    def validate_goal(self, goal: Any) -> str | None:
+        try:
+            find_tree(goal.behavior_tree or self.default_tree, base_dir=self.bt.base_dir)
+        except Exception as exc:
+            return f"behavior tree '{goal.behavior_tree}' could not be loaded: {exc}"
+        return None
+
+    def _set_goal(self, goal: Any) -> None:
+        _bb_set("goal", _pose(goal.pose))
+
+    def on_start(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
+        self.bt.halt_others(self)
+        try:
+            self._load(handle.goal.behavior_tree)
+        except Exception as exc:
+            return NavResult.failure(
+                self.codes.FAILED_TO_LOAD_BEHAVIOR_TREE, f"{type(exc).__name__}: {exc}"
+            )
+        for prefix in self.bt.params.error_code_name_prefixes:
+            _bb_set(f"{prefix}_error_code", 0)
+            _bb_set(f"{prefix}_error_msg", "")
+        self._begin_goal(handle, now)
+        self.root.stop(Status.INVALID)  # a fresh tree (Nav2 halts it after every goal)
+        return self.execute(handle, now)
+
+    def _begin_goal(self, handle: GoalHandle[Any], now: float) -> None:
+        self.start_time = now
+        self._cancel_deadline = None
+        self._closest = 0
+        self._path = None
+        _bb_set(RECOVERIES_KEY.strip("/"), 0)
+        self._set_goal(handle.goal)
+
+    def on_preempt(
+        self, old: GoalHandle[Any], new: GoalHandle[Any], now: float
+    ) -> NavResult | None:
+        wanted = new.goal.behavior_tree
+        same = not wanted or str(find_tree(wanted, base_dir=self.bt.base_dir)) == self.tree_file
+        if not same or self.root is None:
+            # Nav2 rejects a preempting goal that asks for another tree; the old one is gone
+            # already here, so start the new one afresh.
+            self._halt()
+            return self.on_start(new, now)
+        self._begin_goal(new, now)
+        return self.execute(new, now)
+
+    def execute(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
+        self.root.tick_once()
+        self.ticks += 1
+        status = self.root.status
+        handle.publish_feedback(self._feedback(now), now)
+        if status == Status.RUNNING:
+            return None
+        if status == Status.SUCCESS:
+            return NavResult.success()
+        return self._failure()
+
+    def on_cancel(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
+        """Halt the tree, then wait (up to `default_cancel_timeout`) for the servers its
+        action nodes canceled to stop, as BtActionNode's halt waits for the cancel."""
+        if self._cancel_deadline is None:
+            self._halt()
+            self._cancel_deadline = now + self.bt.params.default_cancel_timeout / 1000.0
+        if self.bt.servers_busy() and now < self._cancel_deadline:
+            return None
+        self._cancel_deadline = None
+        return NavResult.cancellation()
+
+    def _failure(self) -> NavResult:
+        """Nav2's `populateErrorCode`: the lowest non-zero `<prefix>_error_code`."""
+        best: tuple[int, str] | None = None
+        for prefix in self.bt.params.error_code_name_prefixes:
+            code = _bb_get(f"{prefix}_error_code", 0)
+            if code and (best is None or int(code) < best[0]):
+                best = (int(code), str(_bb_get(f"{prefix}_error_msg", "") or ""))
+        if best is None:
+            return NavResult.failure(self.codes.UNKNOWN)
+        return NavResult.failure(best[0], best[1] or None)
+
+    # -- feedback ---------------------------------------------------------------------------
+
+    def _feedback(self, now: float) -> Any:
+        rt = self.bt.runtime
+        try:
+            pose = rt.robot_pose(self.bt.params.global_frame, self.bt.params.robot_base_frame)
+        except Exception:
+            pose = Pose2D()
+        remaining = self._distance_remaining(pose)
+        twist = rt.latest_odom.twist
+        speed = math.hypot(twist.linear_x, twist.linear_y)
+        eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
+        return self._make_feedback(
+            current_pose=pose,
+            navigation_time=now - self.start_time,
+            estimated_time_remaining=eta,
+            number_of_recoveries=int(_bb_get(RECOVERIES_KEY.strip("/"), 0) or 0),
+            distance_remaining=remaining,
+        )
+
+    def _make_feedback(self, **kw: Any) -> Any:
+        return NavigateToPoseFeedback(**kw)
+
+    def _distance_remaining(self, pose: Pose2D) -> float:
+        path = _bb_get("path")
+        if not isinstance(path, Path) or len(path) == 0:
+            goal = _bb_get("goal")
+            goal = getattr(goal, "pose", goal)
+            if goal is None or not hasattr(goal, "x"):
+                return 0.0
+            return math.hypot(goal.x - pose.x, goal.y - pose.y)
+        if path is not self._path:
+            self._path, self._closest = path, 0
+        xy = path.poses[:, :2]
+        seg = np.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+        # Nav2: the closest pose within search_window (along the path) of the last closest
+        window_end = self._closest + 1
+        if len(seg):
+            along = np.cumsum(seg[self._closest :])
+            window_end = self._closest + 1 + int(np.searchsorted(along, self.search_window))
+        window = xy[self._closest : min(window_end + 1, len(xy))]
+        d = np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
+        self._closest += int(np.argmin(d))
+        # nav2_util's calculate_path_length(path, closest_pose_idx)
+        return float(seg[self._closest :].sum())
+
+    @property
+    def search_window(self) -> float:
+        section = self.bt.navigator_sections.get(self.name)
+        doc = getattr(section, "params", None)
+        value = getattr(doc, "search_window", None)
+        return float(value) if value is not None else 2.0
+
+
+class NavigateToPoseNavigator(Navigator):
+    """nav2_bt_navigator::NavigateToPoseNavigator."""
+
+
+class NavigateThroughPosesNavigator(Navigator):
+    """nav2_bt_navigator::NavigateThroughPosesNavigator: `goals` on the blackboard."""
+
+    goal_type = NavigateThroughPosesGoal
+
+    def validate_goal(self, goal: Any) -> str | None:
+        if not goal.poses:
+            return "no poses to navigate through"
+        return super().validate_goal(goal)
+
+    def _set_goal(self, goal: Any) -> None:
+        poses = [_pose(p) for p in goal.poses]
+        _bb_set("goals", poses)
+        # Nav2 sets only `goals`; `goal` is the last pose, for nodes that read it.
+        _bb_set("goal", poses[-1])
+
+    def _make_feedback(self, **kw: Any) -> Any:
+        goals = _bb_get("goals") or []
+        return NavigateThroughPosesFeedback(**kw, number_of_poses_remaining=len(goals))
+
+
+class BtNavigator:
+    """bt_navigator: builds its navigators from its params and adds them to the runtime."""
+
+    def __init__(
+        self,
+        runtime: Runtime,
+        stack: Any,
+        params: ParamsFile | ServerParams,
+        *,
+        base_dir: Any = None,
+    ) -> None:
+        server = params.server("bt_navigator") if isinstance(params, ParamsFile) else params
+        self.server_params = server
+        self.params = server.model
+        self.runtime = runtime
+        self.stack = stack
+        self.base_dir = base_dir
+        self.navigator_sections = dict(server.plugins)
+        self.context = {
+            "runtime": runtime,
+            "stack": stack,
+            "global_frame": self.params.global_frame,
+            "robot_base_frame": self.params.robot_base_frame,
+        }
+        self.navigators: dict[str, Navigator] = {}
+        names = list(self.params.navigators)
+        for name in names:
+            section = self.navigator_sections.get(name)
+            kind = section.short_type if section is not None else name
+            if "ThroughPoses" in kind or name == "navigate_through_poses":
+                nav: Navigator = NavigateThroughPosesNavigator(
+                    "NavigateThroughPoses", name, self, self.params.default_nav_through_poses_bt_xml
+                )
+            else:
+                nav = NavigateToPoseNavigator(
+                    "NavigateToPose", name, self, self.params.default_nav_to_pose_bt_xml
+                )
+            self.navigators[name] = runtime.add(nav)
+
+    def halt_others(self, starting: Navigator) -> None:
+        """One tree at a time: a goal on one navigator aborts the other's running goal."""
+        for nav in self.navigators.values():
+            if nav is not starting and nav.current is not None and nav.current.active:
+                nav._halt()
+                nav._terminate(nav.current, f"{starting.name} started a goal")
+
+    def servers_busy(self) -> bool:
+        """Whether an action server the trees call (not a navigator) still runs a goal."""
+        servers = self.runtime.action_servers
+        for name in servers.names():
+            server = servers.get(name)
+            if server.action in ("NavigateToPose", "NavigateThroughPoses", "FollowWaypoints"):
+                continue
+            if server.is_active:
+                return True
+        return False
+
+    def set_parameters(self, params: ServerParams) -> None:
+        self.server_params = params
+        self.params = params.model
+        for nav in self.navigators.values():
+            nav.rate = 1000.0 / self.params.bt_loop_duration
+            if isinstance(nav, NavigateThroughPosesNavigator):
+                nav.default_tree = self.params.default_nav_through_poses_bt_xml
+            else:
+                nav.default_tree = self.params.default_nav_to_pose_bt_xml
+
+
+__all__ = [
+    "BtNavigator",
+    "NavigateThroughPosesError",
+    "NavigateThroughPosesFeedback",
+    "NavigateThroughPosesGoal",
+    "NavigateThroughPosesNavigator",
+    "NavigateToPoseError",
+    "NavigateToPoseFeedback",
+    "NavigateToPoseGoal",
+    "NavigateToPoseNavigator",
+]

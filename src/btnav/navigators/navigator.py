@@ -1,0 +1,201 @@
+"""The Python API: nav2_simple_commander's BasicNavigator in Python spelling.
+
+```python
+nav = Navigator.from_files("worlds/small_office.yaml", "params/nav2_params.yaml",
+                           "maps/small_office.yaml", seed=0)
+nav.go_to_pose((6.0, 3.0, 0.0))
+while not nav.is_task_complete():      # each poll advances sim time (rclpy's spin)
+    feedback = nav.get_feedback()
+result = nav.get_result()              # NavResult: outcome, error_code, error_msg, value
+```
+
+One task at a time, as BasicNavigator: a new task replaces the handle the
+navigator polls (the server preempts or aborts the old goal as Nav2 does).
+`is_task_complete()` steps the runtime for up to `poll_period` sim seconds (0.1 s,
+BasicNavigator's spin timeout) and says whether the task has ended. Synchronous
+helpers (`get_path`, `cancel_task`) step until their answer is there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from os import PathLike
+from pathlib import Path as FilePath
+from typing import Any
+
+from ..behaviors.back_up import BackUpGoal
+from ..behaviors.spin import SpinGoal
+from ..core.error_codes import NavResult
+from ..core.geometry import Pose2D
+from ..core.messages import Path
+from ..maps.map_io import load_map
+from ..nav.actions import GoalHandle
+from ..nav.planner_server import ComputePathToPoseGoal
+from ..nav.runtime import Runtime
+from ..nav.stack import NavStack
+from ..params.loader import load_params
+from ..params.paramsfile import ParamsFile, ServerParams
+from ..sim.world import World
+from .bt_navigator import BtNavigator, NavigateThroughPosesGoal, NavigateToPoseGoal
+from .waypoint_follower import FollowWaypointsGoal, WaypointFollower
+
+PoseArg = Pose2D | Sequence[float]
+
+
+def _pose(p: Any) -> Any:
+    return p if hasattr(p, "x") or hasattr(p, "pose") else Pose2D(*p)
+
+
+class Navigator:
+    """A whole Nav2 bring-up on one runtime, driven like BasicNavigator."""
+
+    poll_period = 0.1
+
+    def __init__(
+        self,
+        world: World,
+        runtime: Runtime,
+        stack: NavStack,
+        bt_navigator: BtNavigator,
+        waypoint_follower: WaypointFollower,
+        *,
+        tree: str | None = None,
+    ) -> None:
+        self.world = world
+        self.runtime = runtime
+        self.stack = stack
+        self.bt_navigator = bt_navigator
+        self.waypoint_follower = waypoint_follower
+        self.tree = tree or ""
+        self.handle: GoalHandle[Any] | None = None
+
+    @classmethod
+    def from_files(
+        cls,
+        world: str | PathLike[str],
+        params: str | PathLike[str] | ParamsFile,
+        map: str | PathLike[str] | None = None,
+        *,
+        seed: int = 0,
+        localization: str = "ground_truth",
+        tree: str | None = None,
+    ) -> Navigator:
+        """World, params and map files; `tree` replaces bt_navigator's default
+        NavigateToPose tree (a file, or a bundled tree's bare name)."""
+        w = World.from_file(world, seed=seed)
+        rt = Runtime(w, seed=seed)
+        pf = params if isinstance(params, ParamsFile) else load_params(params)
+        if localization == "amcl" and "amcl" in pf:
+            rt.use_localizer(localization, pf.server("amcl").model)
+        else:
+            rt.use_localizer(localization)
+        grid = load_map(map) if map is not None else None
+        stack = NavStack.build(rt, pf, grid, seed=seed)
+        bt = BtNavigator(rt, stack, pf, base_dir=FilePath.cwd())
+        wf = rt.add(WaypointFollower(rt, pf))
+        stack.servers["bt_navigator"] = bt
+        stack.servers["waypoint_follower"] = wf
+        return cls(w, rt, stack, bt, wf, tree=tree)
+
+    # -- tasks ------------------------------------------------------------------------------
+
+    def _send(self, server: str, goal: Any) -> bool:
+        self.handle = self.runtime.action_client(server).send_goal(goal)
+        return self.handle.accepted
+
+    def go_to_pose(self, pose: PoseArg, behavior_tree: str = "") -> bool:
+        """NavigateToPose; False if the goal was rejected."""
+        return self._send(
+            "navigate_to_pose", NavigateToPoseGoal(_pose(pose), behavior_tree or self.tree)
+        )
+
+    def go_through_poses(self, poses: Sequence[PoseArg], behavior_tree: str = "") -> bool:
+        """NavigateThroughPoses; False if the goal was rejected."""
+        goal = NavigateThroughPosesGoal([_pose(p) for p in poses], behavior_tree)
+        return self._send("navigate_through_poses", goal)
+
+    def follow_waypoints(self, poses: Sequence[PoseArg]) -> bool:
+        """FollowWaypoints (waypoint_follower): one NavigateToPose per pose."""
+        return self._send("follow_waypoints", FollowWaypointsGoal([_pose(p) for p in poses]))
+
+    def spin(self, spin_dist: float = 1.57, time_allowance: float = 10.0) -> bool:
+        return self._send("spin", SpinGoal(spin_dist, time_allowance))
+
+    def backup(
+        self, backup_dist: float = 0.15, backup_speed: float = 0.025, time_allowance: float = 10.0
+    ) -> bool:
+        return self._send("backup", BackUpGoal(backup_dist, backup_speed, time_allowance))
+
+    def is_task_complete(self) -> bool:
+        """Advance sim time (up to `poll_period`) and say whether the task has ended."""
+        h = self.handle
+        if h is None or h.done:
+            return True
+        self.runtime.run_until(lambda: h.done, self.poll_period)
+        return h.done
+
+    def get_feedback(self) -> Any:
+        return self.handle.feedback if self.handle is not None else None
+
+    def get_result(self) -> NavResult | None:
+        """The task's result (outcome, Nav2's error_code and error_msg, value), None while running."""
+        return self.handle.result if self.handle is not None and self.handle.done else None
+
+    def cancel_task(self, timeout: float = 5.0) -> bool:
+        """Cancel the running task and step until the server has ended it."""
+        h = self.handle
+        if h is None or h.done:
+            return False
+        h.cancel()
+        return self.runtime.run_until(lambda: h.done, timeout)
+
+    def wait_until_done(self, timeout: float = 300.0) -> NavResult | None:
+        """Poll until the task ends or `timeout` sim seconds pass; the result (None: still running)."""
+        h = self.handle
+        if h is not None:
+            self.runtime.run_until(lambda: h.done, timeout)
+        return self.get_result()
+
+    # -- services ---------------------------------------------------------------------------
+
+    def get_path(
+        self, start: PoseArg | None, goal: PoseArg, planner_id: str = "", use_start: bool = True
+    ) -> Path | None:
+        """ComputePathToPose from `start` (None: the robot) to `goal`; None if it failed."""
+        h = self.runtime.action_client("compute_path_to_pose").send_goal(
+            ComputePathToPoseGoal(
+                _pose(goal),
+                planner_id,
+                _pose(start) if start is not None else None,
+                use_start and start is not None,
+            )
+        )
+        self.runtime.run_until(lambda: h.done, 5.0)
+        if not h.succeeded or h.result is None:
+            return None
+        value = h.result.value
+        return getattr(value, "path", value)
+
+    def clear_all_costmaps(self) -> None:
+        self.stack.clear_all_costmaps()
+
+    def clear_local_costmap(self) -> None:
+        self.stack.local_costmap.clear_entirely()
+
+    def clear_global_costmap(self) -> None:
+        self.stack.global_costmap.clear_entirely()
+
+    def set_parameters(self, server: str, changes: Mapping[str, Any]) -> ServerParams:
+        """Nav2's dynamic parameters on any server, validated like the file."""
+        return self.stack.set_parameters(server, changes)
+
+    # -- state ------------------------------------------------------------------------------
+
+    @property
+    def now(self) -> float:
+        return self.runtime.now
+
+    @property
+    def robot_pose(self) -> Pose2D:
+        """The ground-truth pose (for tests and metrics)."""
+        return self.world.robot_pose
