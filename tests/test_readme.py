@@ -36,3 +36,9 @@ def test_readme_world_example_runs_and_is_deterministic():
 def test_readme_navigation_example_reaches_the_goal_untouched():
     out = run_example(1).split()
     assert out[0] == "SUCCEEDED" and out[1] == "0" and out[-1] == "0"
+
+
+@pytest.mark.slow
+def test_readme_navigator_example_succeeds():
+    out = run_example(3).split()
+    assert out[0] == "succeeded" and out[1] == "0" and out[-1] == "0"

@@ -243,6 +243,9 @@ class Outcome(str, Enum):
     FAILED = "failed"
     CANCELED = "canceled"
 
+    def __str__(self) -> str:  # prints as report.json writes it
+        return self.value
+
 
 @dataclass(frozen=True)
 class NavResult:
