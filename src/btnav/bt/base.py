@@ -125,6 +125,12 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         for child in self.children[start:]:
             halt(child)
 
+    def halt_others(self, index: int) -> None:
+        """A reactive control's rule: only the child that is RUNNING now may stay so."""
+        for i, child in enumerate(self.children):
+            if i != index:
+                halt(child)
+
     def halt_self(self) -> None:
         """What BT.CPP's tick calls `halt()` for: children back to idle, own state reset."""
         self.halt_children()

@@ -90,9 +90,7 @@ class ReactiveSequence(ControlNode, _PtSequence):
         for index, child in enumerate(self.children):
             status = yield from self.tick_child(child)
             if status == R:
-                for i in range(len(self.children)):
-                    if i != index:
-                        self.halt_child(i)
+                self.halt_others(index)
                 return R
             if status == F:
                 self.halt_children()
@@ -134,9 +132,7 @@ class ReactiveFallback(ControlNode, _PtSelector):
         for index, child in enumerate(self.children):
             status = yield from self.tick_child(child)
             if status == R:
-                for i in range(len(self.children)):
-                    if i != index:
-                        self.halt_child(i)
+                self.halt_others(index)
                 return R
             if status == S and not is_skipped(child):
                 self.halt_children()
