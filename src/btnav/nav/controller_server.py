@@ -204,27 +204,20 @@ class ControllerServer(ActionServer[FollowPathGoal]):
     # -- pieces -----------------------------------------------------------------------------
 
     def _select(self, goal: FollowPathGoal) -> NavResult | None:
-        controller = pick(self.controllers, goal.controller_id)
-        if controller is None:
-            return NavResult.failure(
-                FollowPathError.INVALID_CONTROLLER,
-                f"controller id '{goal.controller_id}' is not one of: "
-                f"{', '.join(self.controllers)}",
-            )
-        goal_checker = pick(self.goal_checkers, goal.goal_checker_id)
-        if goal_checker is None:
-            return NavResult.failure(
-                FollowPathError.INVALID_CONTROLLER,
-                f"goal checker id '{goal.goal_checker_id}' is not one of: "
-                f"{', '.join(self.goal_checkers)}",
-            )
-        progress_checker = pick(self.progress_checkers, goal.progress_checker_id)
-        if progress_checker is None:
-            return NavResult.failure(
-                FollowPathError.INVALID_CONTROLLER,
-                f"progress checker id '{goal.progress_checker_id}' is not one of: "
-                f"{', '.join(self.progress_checkers)}",
-            )
+        chosen = []
+        for what, plugins, wanted in (
+            ("controller", self.controllers, goal.controller_id),
+            ("goal checker", self.goal_checkers, goal.goal_checker_id),
+            ("progress checker", self.progress_checkers, goal.progress_checker_id),
+        ):
+            plugin = pick(plugins, wanted)
+            if plugin is None:  # Nav2 answers every unknown id with INVALID_CONTROLLER
+                return NavResult.failure(
+                    FollowPathError.INVALID_CONTROLLER,
+                    f"{what} id '{wanted}' is not one of: {', '.join(plugins)}",
+                )
+            chosen.append(plugin)
+        controller, goal_checker, progress_checker = chosen
         if self.progress_checker is not None and progress_checker is not self.progress_checker:
             progress_checker.reset()
         self.controller, self.goal_checker = controller, goal_checker
