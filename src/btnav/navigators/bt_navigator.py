@@ -21,6 +21,7 @@ The blackboard is py_trees' (process-wide), so one tree runs at a time, as in Na
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -113,6 +114,7 @@ class Navigator(ActionServer[Any]):
     def _halt(self) -> None:
         if self.root is not None and self.root.status == Status.RUNNING:
             self.root.stop(Status.INVALID)
+            self.bt.notify(self, self.bt.runtime.now)
 
     # -- goals ------------------------------------------------------------------------------
 
@@ -165,6 +167,7 @@ class Navigator(ActionServer[Any]):
     def execute(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
         self.root.tick_once()
         self.ticks += 1
+        self.bt.notify(self, now)
         status = self.root.status
         handle.publish_feedback(self._feedback(now), now)
         if status == Status.RUNNING:
@@ -299,6 +302,9 @@ class BtNavigator:
             "robot_base_frame": self.params.robot_base_frame,
         }
         self.navigators: dict[str, Navigator] = {}
+        #: Called as `listener(navigator, now)` after every tick and halt of a tree (the
+        #: mission's bt_log reads node statuses there, as Groot's publisher does).
+        self.tick_listeners: list[Callable[[Navigator, float], None]] = []
         names = list(self.params.navigators)
         for name in names:
             section = self.navigator_sections.get(name)
@@ -312,6 +318,10 @@ class BtNavigator:
                     "NavigateToPose", name, self, self.params.default_nav_to_pose_bt_xml
                 )
             self.navigators[name] = runtime.add(nav)
+
+    def notify(self, navigator: Navigator, now: float) -> None:
+        for listener in self.tick_listeners:
+            listener(navigator, now)
 
     def halt_others(self, starting: Navigator) -> None:
         """One tree at a time: a goal on one navigator aborts the other's running goal."""
