@@ -54,6 +54,24 @@ def _frames_of_world(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _overrides(args: argparse.Namespace) -> dict[str, object]:
+    from .params.updates import parse_set_option
+
+    return dict(parse_set_option(text) for text in args.set or ())
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .mission.run_cli import run_main
+
+    return run_main(args.mission, out=args.out, seed=args.seed, overrides=_overrides(args))
+
+
+def _frames_of_mission(args: argparse.Namespace) -> int:
+    from .mission.frames import frames_main
+
+    return frames_main(args.mission, _overrides(args))
+
+
 class _Parser(argparse.ArgumentParser):
     """Usage mistakes exit 2 with one line, like every other user error."""
 
@@ -66,6 +84,28 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"btnav {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks for user errors")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    set_help = (
+        "override a param (local_costmap.local_costmap.inflation_layer.inflation_radius=0.4) "
+        "or a mission key (mission.seed=3); repeatable"
+    )
+    run = sub.add_parser("run", help="run a mission; exit 0 succeeded, 1 failed, 2 user error")
+    run.add_argument("mission", help="the mission .yaml")
+    run.add_argument(
+        "--out",
+        help="the folder for report.json, trajectory.csv, bt_log.jsonl "
+        "(default: out/<mission name>)",
+    )
+    run.add_argument("--seed", type=int, help="the seed (default: the mission's)")
+    run.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
+    run.set_defaults(func=_run)
+
+    frames_cmd = sub.add_parser(
+        "frames", help="print a mission's frame tree and check every frame its params name"
+    )
+    frames_cmd.add_argument("mission", help="the mission .yaml")
+    frames_cmd.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
+    frames_cmd.set_defaults(func=_frames_of_mission)
 
     params = sub.add_parser("params", help="Nav2 params files")
     params_sub = params.add_subparsers(dest="params_command", required=True, parser_class=_Parser)

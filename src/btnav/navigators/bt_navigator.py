@@ -72,14 +72,15 @@ def _pose(value: Any) -> Any:
     return value if hasattr(value, "x") or hasattr(value, "pose") else Pose2D(*value)
 
 
-def _bb_get(key: str, default: Any = None) -> Any:
+def blackboard_value(key: str, default: Any = None) -> Any:
+    """The tree's blackboard entry `key` (py_trees' root namespace), or `default`."""
     try:
         return Blackboard.get("/" + key)
     except KeyError:
         return default
 
 
-def _bb_set(key: str, value: Any) -> None:
+def _blackboard_set(key: str, value: Any) -> None:
     Blackboard.set("/" + key, value)
 
 
@@ -99,12 +100,16 @@ class Navigator(ActionServer[Any]):
         self.start_time = 0.0
         self._closest = 0  # index of the path pose closest to the robot
         self._path: Path | None = None
+        self._xy: Any = None
+        self._seg: Any = None  # the segment lengths of `_path`
         self.ticks = 0
         self._cancel_deadline: float | None = None
 
     # -- the tree -------------------------------------------------------------------------
 
-    def _load(self, tree: str) -> None:
+    def load(self, tree: str = "") -> None:
+        """Build `tree` (default: this navigator's default tree) unless it is the loaded one;
+        a bad tree raises its located `BtnavError`."""
         name = tree or self.default_tree
         path = str(find_tree(name, base_dir=self.bt.base_dir))
         if path != self.tree_file or self.bt.params.always_reload_bt_xml:
@@ -126,19 +131,19 @@ class Navigator(ActionServer[Any]):
         return None
 
     def _set_goal(self, goal: Any) -> None:
-        _bb_set("goal", _pose(goal.pose))
+        _blackboard_set("goal", _pose(goal.pose))
 
     def on_start(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
         self.bt.halt_others(self)
         try:
-            self._load(handle.goal.behavior_tree)
+            self.load(handle.goal.behavior_tree)
         except Exception as exc:
             return NavResult.failure(
                 self.codes.FAILED_TO_LOAD_BEHAVIOR_TREE, f"{type(exc).__name__}: {exc}"
             )
         for prefix in self.bt.params.error_code_name_prefixes:
-            _bb_set(f"{prefix}_error_code", 0)
-            _bb_set(f"{prefix}_error_msg", "")
+            _blackboard_set(f"{prefix}_error_code", 0)
+            _blackboard_set(f"{prefix}_error_msg", "")
         self._begin_goal(handle, now)
         self.root.stop(Status.INVALID)  # a fresh tree (Nav2 halts it after every goal)
         return self.execute(handle, now)
@@ -148,7 +153,7 @@ class Navigator(ActionServer[Any]):
         self._cancel_deadline = None
         self._closest = 0
         self._path = None
-        _bb_set(RECOVERIES_KEY.strip("/"), 0)
+        _blackboard_set(RECOVERIES_KEY.strip("/"), 0)
         self._set_goal(handle.goal)
 
     def on_preempt(
@@ -191,9 +196,9 @@ class Navigator(ActionServer[Any]):
         """Nav2's `populateErrorCode`: the lowest non-zero `<prefix>_error_code`."""
         best: tuple[int, str] | None = None
         for prefix in self.bt.params.error_code_name_prefixes:
-            code = _bb_get(f"{prefix}_error_code", 0)
+            code = blackboard_value(f"{prefix}_error_code", 0)
             if code and (best is None or int(code) < best[0]):
-                best = (int(code), str(_bb_get(f"{prefix}_error_msg", "") or ""))
+                best = (int(code), str(blackboard_value(f"{prefix}_error_msg", "") or ""))
         if best is None:
             return NavResult.failure(self.codes.UNKNOWN)
         return NavResult.failure(best[0], best[1] or None)
@@ -214,7 +219,7 @@ class Navigator(ActionServer[Any]):
             current_pose=pose,
             navigation_time=now - self.start_time,
             estimated_time_remaining=eta,
-            number_of_recoveries=int(_bb_get(RECOVERIES_KEY.strip("/"), 0) or 0),
+            number_of_recoveries=int(blackboard_value(RECOVERIES_KEY.strip("/"), 0) or 0),
             distance_remaining=remaining,
         )
 
@@ -222,17 +227,20 @@ class Navigator(ActionServer[Any]):
         return NavigateToPoseFeedback(**kw)
 
     def _distance_remaining(self, pose: Pose2D) -> float:
-        path = _bb_get("path")
+        path = blackboard_value("path")
         if not isinstance(path, Path) or len(path) == 0:
-            goal = _bb_get("goal")
+            goal = blackboard_value("goal")
             goal = getattr(goal, "pose", goal)
             if goal is None or not hasattr(goal, "x"):
                 return 0.0
             return math.hypot(goal.x - pose.x, goal.y - pose.y)
-        if path is not self._path:
+        if path is not self._path or self._seg is None:
+            # A new path: its segment lengths once (the tree ticks 100 times a second).
             self._path, self._closest = path, 0
-        xy = path.poses[:, :2]
-        seg = np.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+            xy = path.poses[:, :2]
+            self._xy = xy
+            self._seg = np.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+        xy, seg = self._xy, self._seg
         # Nav2: the closest pose within search_window (along the path) of the last closest
         window_end = self._closest + 1
         if len(seg):
@@ -268,12 +276,12 @@ class NavigateThroughPosesNavigator(Navigator):
 
     def _set_goal(self, goal: Any) -> None:
         poses = [_pose(p) for p in goal.poses]
-        _bb_set("goals", poses)
+        _blackboard_set("goals", poses)
         # Nav2 sets only `goals`; `goal` is the last pose, for nodes that read it.
-        _bb_set("goal", poses[-1])
+        _blackboard_set("goal", poses[-1])
 
     def _make_feedback(self, **kw: Any) -> Any:
-        goals = _bb_get("goals") or []
+        goals = blackboard_value("goals") or []
         return NavigateThroughPosesFeedback(**kw, number_of_poses_remaining=len(goals))
 
 
@@ -362,4 +370,5 @@ __all__ = [
     "NavigateToPoseFeedback",
     "NavigateToPoseGoal",
     "NavigateToPoseNavigator",
+    "blackboard_value",
 ]

@@ -58,21 +58,18 @@ class Navigator:
         stack: NavStack,
         bt_navigator: BtNavigator,
         waypoint_follower: WaypointFollower,
-        *,
-        tree: str | None = None,
     ) -> None:
         self.world = world
         self.runtime = runtime
         self.stack = stack
         self.bt_navigator = bt_navigator
         self.waypoint_follower = waypoint_follower
-        self.tree = tree or ""
         self.handle: GoalHandle[Any] | None = None
 
     @classmethod
     def from_files(
         cls,
-        world: str | PathLike[str],
+        world: World | str | PathLike[str],
         params: str | PathLike[str] | ParamsFile,
         map: str | PathLike[str] | None = None,
         *,
@@ -80,9 +77,9 @@ class Navigator:
         localization: str = "ground_truth",
         tree: str | None = None,
     ) -> Navigator:
-        """World, params and map files; `tree` replaces bt_navigator's default
-        NavigateToPose tree (a file, or a bundled tree's bare name)."""
-        w = World.from_file(world, seed=seed)
+        """World, params and map files (or a built `World`); `tree` replaces bt_navigator's
+        default NavigateToPose tree (a file, or a bundled tree's bare name)."""
+        w = world if isinstance(world, World) else World.from_file(world, seed=seed)
         rt = Runtime(w, seed=seed)
         pf = params if isinstance(params, ParamsFile) else load_params(params)
         if localization == "amcl" and "amcl" in pf:
@@ -95,7 +92,19 @@ class Navigator:
         wf = rt.add(WaypointFollower(rt, pf))
         stack.servers["bt_navigator"] = bt
         stack.servers["waypoint_follower"] = wf
-        return cls(w, rt, stack, bt, wf, tree=tree)
+        nav = cls(w, rt, stack, bt, wf)
+        if tree:
+            nav.use_tree(tree)
+        return nav
+
+    def use_tree(self, tree: str, action: str = "NavigateToPose") -> None:
+        """Make `tree` the default tree of bt_navigator's `action` navigators (NavigateToPose,
+        which waypoint_follower's goals use too, or NavigateThroughPoses), built and
+        validated now so a bad tree fails here and not at the first goal."""
+        for navigator in self.bt_navigator.navigators.values():
+            if navigator.action == action:
+                navigator.default_tree = tree
+                navigator.load()
 
     # -- tasks ------------------------------------------------------------------------------
 
@@ -105,9 +114,7 @@ class Navigator:
 
     def go_to_pose(self, pose: PoseArg, behavior_tree: str = "") -> bool:
         """NavigateToPose; False if the goal was rejected."""
-        return self._send(
-            "navigate_to_pose", NavigateToPoseGoal(_pose(pose), behavior_tree or self.tree)
-        )
+        return self._send("navigate_to_pose", NavigateToPoseGoal(_pose(pose), behavior_tree))
 
     def go_through_poses(self, poses: Sequence[PoseArg], behavior_tree: str = "") -> bool:
         """NavigateThroughPoses; False if the goal was rejected."""
@@ -155,6 +162,13 @@ class Navigator:
         if h is not None:
             self.runtime.run_until(lambda: h.done, timeout)
         return self.get_result()
+
+    def set_initial_pose(self, pose: PoseArg) -> None:
+        """The localiser's initial estimate in the map frame (BasicNavigator's /initialpose);
+        a localiser without one (ground truth) has nothing to set."""
+        setter = getattr(self.runtime.localizer, "set_initial_pose", None)
+        if setter is not None:
+            setter(_pose(pose))
 
     # -- services ---------------------------------------------------------------------------
 

@@ -1,0 +1,47 @@
+"""What a run's report counts from the tree: recoveries and replans, over every goal.
+
+A bt_navigator tick listener. `recoveries` adds up Nav2's `number_recoveries` of each
+navigation goal (the count its RecoveryNodes keep on the blackboard, which the
+navigator resets per goal); `replans` counts each new `path` on the blackboard after
+the first of a goal (Nav2's default trees replan at 1 Hz, and on a new goal or a
+blocked path).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..navigators.bt_navigator import blackboard_value
+
+RECOVERIES = "number_recoveries"
+
+
+class NavigationCounters:
+    def __init__(self) -> None:
+        self.recoveries = 0
+        self.replans = 0
+        self.goals = 0
+        self._goal: Any = None
+        self._goal_recoveries = 0
+        self._path: Any = None  # the path the current goal last had
+        self._seen: Any = None  # the blackboard's path at the last call
+        self._planned = False
+
+    def __call__(self, navigator: Any, now: float) -> None:
+        goal = navigator.current
+        path = blackboard_value("path")
+        if goal is not self._goal:
+            self._goal = goal
+            self.goals += goal is not None
+            self._goal_recoveries = 0
+            self._path = self._seen  # the last goal's path, still on the blackboard
+            self._planned = False
+        count = int(blackboard_value(RECOVERIES, 0) or 0)
+        if count > self._goal_recoveries:
+            self.recoveries += count - self._goal_recoveries
+            self._goal_recoveries = count
+        if path is not None and path is not self._path:
+            self.replans += self._planned
+            self._planned = True
+            self._path = path
+        self._seen = path

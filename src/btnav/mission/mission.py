@@ -1,0 +1,177 @@
+"""A mission loaded and checked: its files found, params read, plugins imported, tree built.
+
+`Mission.load(path, seed=..., overrides=...)` does every check a run needs before
+the clock starts, so a user's mistake anywhere (the mission, its world, params,
+map or tree) is one located `BtnavError`, never a failure half-way through a run.
+`--set` overrides go to the mission (`mission.seed=3`) or the params
+(`local_costmap.local_costmap.inflation_layer.inflation_radius=0.4`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import partial
+from os import PathLike
+from pathlib import Path
+from typing import Any, TypeVar
+
+from ..bt.bundled import find_tree
+from ..core.errors import BtnavError, WorldError
+from ..core.geometry import Pose2D
+from ..core.resources import bundled_dir
+from ..core.yaml_io import line_at
+from ..maps.map_io import load_map
+from ..navigators.navigator import Navigator
+from ..params.loader import load_params
+from ..params.paramsfile import ParamsFile
+from ..params.updates import apply_overrides
+from ..plugins import load_plugins, names
+from ..sim.world import World
+from ..sim.world_spec import WorldSpec, load_world_spec
+from .spec import MissionError, MissionSpec, load_mission_spec, resolve
+
+N = TypeVar("N", bound=Navigator)
+
+#: The tree a task's goals run in, by the bt_navigator action that serves them.
+TASK_ACTION = {
+    "navigate_to_pose": "NavigateToPose",
+    "follow_waypoints": "NavigateToPose",  # waypoint_follower sends NavigateToPose goals
+    "navigate_through_poses": "NavigateThroughPoses",
+}
+
+
+def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """`--set` keys: `mission.*` for the mission file, the rest for the params file."""
+    mission = {k: v for k, v in overrides.items() if k.split(".")[0] == "mission"}
+    params = {k: v for k, v in overrides.items() if k not in mission}
+    return mission, params
+
+
+@dataclass
+class Mission:
+    spec: MissionSpec
+    file: Path
+    doc: Any
+    world: WorldSpec
+    params: ParamsFile
+    map_file: Path | None
+    tree: str | None
+
+    @property
+    def name(self) -> str:
+        return self.spec.mission or self.file.stem
+
+    @property
+    def seed(self) -> int:
+        return self.spec.seed
+
+    @property
+    def task(self) -> str:
+        return self.spec.task.kind
+
+    def where(self, *key: str | int) -> dict[str, Any]:
+        return _where(self.file, self.doc, *key)
+
+    # -- loading --------------------------------------------------------------------------
+
+    @classmethod
+    def load(
+        cls,
+        path: str | PathLike[str],
+        *,
+        seed: int | None = None,
+        overrides: Mapping[str, Any] | None = None,
+    ) -> Mission:
+        """Read the mission and everything it names; any mistake is a located `BtnavError`."""
+        file = Path(path)
+        mission_over, params_over = split_overrides(overrides or {})
+        if seed is not None:
+            mission_over["mission.seed"] = seed
+        spec, doc = load_mission_spec(file, mission_over)
+        base = file.parent
+        where = partial(_where, file, doc)
+
+        if spec.plugins:
+            load_plugins(spec.plugins, base, file=str(file))
+        _check_localization(spec, where)
+
+        world_path = _existing(resolve(base, spec.world), "world", where)
+        world = load_world_spec(world_path)
+        if spec.initial_pose is not None:
+            world.robot.pose = spec.initial_pose
+
+        params_path = (
+            _existing(resolve(base, spec.params), "params", where)
+            if spec.params is not None
+            else bundled_dir("params") / "nav2_params.yaml"
+        )
+        params = load_params(params_path)
+        if params_over:
+            params = apply_overrides(params, params_over)
+
+        map_file = None
+        if spec.map is not None:
+            map_file = _existing(resolve(base, spec.map), "map", where)
+            load_map(map_file)  # read once now, so a bad map is a load error
+        elif spec.localization != "slam":
+            raise MissionError(
+                f"localization '{spec.localization}' needs a map; give `map:` "
+                "(or use localization: slam to make one)",
+                **where("localization"),
+            )
+
+        tree = None
+        if spec.tree is not None:
+            try:
+                tree = str(find_tree(spec.tree, base_dir=base))
+            except BtnavError as err:
+                raise err.located(**where("tree")) from None
+        return cls(spec, file, doc, world, params, map_file, tree)
+
+    # -- running --------------------------------------------------------------------------
+
+    def navigator(self, cls: type[N] = Navigator) -> N:  # type: ignore[assignment]
+        """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0."""
+        try:
+            world = World(self.world, seed=self.seed, file=self.world.file)
+        except WorldError as err:
+            if self.spec.initial_pose is not None and err.key == "robot.pose":
+                raise MissionError(err.message, **self.where("initial_pose")) from None
+            raise
+        nav = cls.from_files(
+            world,
+            self.params,
+            self.map_file,
+            seed=self.seed,
+            localization=self.spec.localization,
+        )
+        if self.tree is not None:
+            try:
+                nav.use_tree(self.tree, TASK_ACTION.get(self.task, "NavigateToPose"))
+            except BtnavError as err:
+                raise err.located(**self.where("tree")) from None
+        if self.spec.initial_pose is not None:
+            nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
+        return nav
+
+
+def _where(file: Path, doc: Any, *key: str | int) -> dict[str, Any]:
+    """file, line and key of `key` in the mission file, for an error."""
+    return dict(file=str(file), line=line_at(doc, key), key=".".join(map(str, key)))
+
+
+def _existing(path: Path, key: str, where: Any) -> Path:
+    if not path.is_file():
+        raise MissionError(f"{key} file not found: {path}", **where(key))
+    return path
+
+
+def _check_localization(spec: MissionSpec, where: Any) -> None:
+    kind = "slam" if spec.localization == "slam" else "localizer"
+    if spec.localization not in names(kind):
+        have = ", ".join(names("localizer") + names("slam")) or "none"
+        raise MissionError(
+            f"localization '{spec.localization}' is not available yet in btnav (it has: {have})",
+            **where("localization"),
+        )

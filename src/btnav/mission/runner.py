@@ -1,0 +1,131 @@
+"""`btnav run`: one mission, start to end, and the folder of what it did.
+
+The run builds the bring-up (`Mission.navigator`), adds the recorders its outputs
+need, sends the task as nav2_simple_commander would and polls it on sim time until
+it ends or `time_limit` passes (then it is canceled, as BasicNavigator's examples
+do). It writes `report.json`, `trajectory.csv`, `bt_log.jsonl` and the map as the
+mission's `outputs` ask. A navigation failure is a report with Nav2's error code,
+never an exception.
+"""
+
+from __future__ import annotations
+
+import time
+from contextlib import ExitStack
+from pathlib import Path
+from typing import Any
+
+from ..core.error_codes import NavResult
+from ..core.geometry import Pose2D
+from ..maps.map_io import save_map
+from ..navigators.navigator import Navigator
+from .bt_log import BtLog
+from .counters import NavigationCounters
+from .mission import Mission
+from .report import RunReport
+from .spec import OUTPUTS
+from .trajectory import TrajectoryRecorder
+
+
+def start_task(nav: Navigator, mission: Mission) -> bool:
+    """Send the mission's task; False if the server rejected it."""
+    poses = [Pose2D(*p) for p in mission.spec.task.poses]
+    if mission.task == "navigate_to_pose":
+        return nav.go_to_pose(poses[0])
+    if mission.task == "navigate_through_poses":
+        return nav.go_through_poses(poses)
+    return nav.follow_waypoints(poses)
+
+
+def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunReport:
+    """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing)."""
+    outputs = list(mission.spec.outputs) if out_dir is not None else []
+    out = Path(out_dir) if out_dir is not None else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        for name in OUTPUTS:  # no stale file from an earlier run of another mission
+            for stale in OUTPUTS[name]:
+                (out / stale).unlink(missing_ok=True)
+    nav = mission.navigator()
+    bt = nav.bt_navigator
+    with ExitStack() as files:
+
+        def sink(name: str) -> Any:
+            if name not in outputs or out is None:
+                return None
+            return files.enter_context(open(out / OUTPUTS[name][0], "w", newline="\n"))
+
+        recorder = TrajectoryRecorder(
+            nav.runtime,
+            nav.stack.controller_server.rate,
+            sink("trajectory"),
+            global_frame=bt.params.global_frame,
+        )
+        nav.runtime.add(recorder)
+        counters = NavigationCounters()
+        bt.tick_listeners.append(counters)
+        log_file = sink("bt_log")
+        if log_file is not None:
+            bt.tick_listeners.append(
+                BtLog(log_file, idle_transitions=bt.params.bt_log_idle_transitions)
+            )
+
+        wall0 = time.perf_counter()
+        limit_reached = False
+        if start_task(nav, mission):
+            result = nav.wait_until_done(mission.spec.time_limit)
+            if result is None:
+                limit_reached = True
+                nav.cancel_task()
+                result = nav.get_result()
+        else:
+            result = nav.get_result()
+        wall = time.perf_counter() - wall0
+
+    report = _report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
+    if out is not None:
+        if "map" in outputs and nav.stack.map_server.map is not None:
+            save_map(nav.stack.map_server.map, out / OUTPUTS["map"][0])
+        if "report" in outputs:
+            report.write(out / OUTPUTS["report"][0])
+    return report
+
+
+def _report(
+    mission: Mission,
+    nav: Navigator,
+    result: NavResult | None,
+    recorder: TrajectoryRecorder,
+    counters: NavigationCounters,
+    wall: float,
+    limit_reached: bool,
+    outputs: list[str],
+) -> RunReport:
+    if result is None:  # a goal rejected outright, or a cancel that did not end in time
+        status, code, msg = "failed", None, "the task did not start or did not end"
+    else:
+        status = str(result.outcome)
+        code = result.error_code if result.failed else None
+        msg = result.error_msg if result.failed else None
+    if limit_reached:
+        msg = f"time_limit of {mission.spec.time_limit:g} s reached"
+    value = result.value if result is not None else None
+    missed = list(getattr(value, "missed_indices", []))
+    return RunReport(
+        mission=mission.name,
+        seed=mission.seed,
+        status=status,
+        error_code=code,
+        error_msg=msg,
+        sim_time=nav.now,
+        wall_time=wall,
+        path_length=recorder.path_length,
+        collisions=nav.world.collisions,
+        recoveries=counters.recoveries,
+        replans=counters.replans,
+        missed_waypoints=missed,
+        localization_error=recorder.localization_error(),
+        task=mission.task,
+        goals=len(mission.spec.task.poses),
+        outputs=[f for name in outputs for f in OUTPUTS[name]],
+    )

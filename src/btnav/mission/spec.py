@@ -1,0 +1,208 @@
+"""The mission file: what to run (world, params, map, tree, start, task, limits, outputs).
+
+```yaml
+mission: office_tour
+world: ../worlds/small_office.yaml
+params: ../params/nav2_params.yaml
+map: ../maps/small_office.yaml
+localization: ground_truth
+initial_pose: [1.0, 1.0, 0.0]
+task:
+  follow_waypoints: [[3, 2, 1.57], [6, 3, 0], [9, 1.5, 0]]
+time_limit: 300
+seed: 0
+outputs: [report, trajectory, bt_log]
+```
+
+Paths are relative to the mission file. A pose is `[x, y, yaw]` (or `[x, y]`, yaw 0)
+in the map frame. `task` holds exactly one of `navigate_to_pose`,
+`navigate_through_poses`, `follow_waypoints` or `explore`. Every mistake is a
+`MissionError` naming the file, line, key and the closest valid spelling.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from os import PathLike
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import BeforeValidator, Field, field_validator, model_validator
+
+from ..core.errors import BtnavError, ConfigError
+from ..core.suggest import best_match
+from ..core.validation import StrictModel, validate
+from ..core.yaml_io import YamlMap, line_at, load_yaml
+from ..params.tree import copy_tree, set_path
+
+
+class MissionError(ConfigError):
+    """A mission file btnav cannot run."""
+
+
+def _pose(v: Any) -> Any:
+    if isinstance(v, list | tuple) and len(v) == 2:
+        return (*v, 0.0)
+    return v
+
+
+def _finite(v: tuple[float, float, float]) -> tuple[float, float, float]:
+    if not all(math.isfinite(c) for c in v):
+        raise ValueError("a pose is [x, y, yaw] in finite numbers")
+    return v
+
+
+Pose = Annotated[tuple[float, float, float], BeforeValidator(_pose)]
+Poses = Annotated[list[Pose], Field(min_length=1)]
+
+#: What a run can write (`outputs:`), and the files each one is.
+OUTPUTS = {
+    "report": ("report.json",),
+    "trajectory": ("trajectory.csv",),
+    "bt_log": ("bt_log.jsonl",),
+    "map": ("map.yaml", "map.pgm"),
+}
+#: Outputs the brief names that btnav cannot write yet.
+PLANNED_OUTPUTS = {"png": "pictures of a run", "gif": "animations of a run"}
+DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
+#: Tasks the brief names that btnav cannot run yet.
+PLANNED_TASKS = {"explore": "frontier exploration needs SLAM, which btnav does not have yet"}
+
+
+class TaskSpec(StrictModel):
+    """Exactly one task."""
+
+    navigate_to_pose: Pose | None = None
+    navigate_through_poses: Poses | None = None
+    follow_waypoints: Poses | None = None
+    explore: dict[str, Any] | None = None
+
+    @field_validator("navigate_to_pose")
+    @classmethod
+    def _finite_pose(cls, v: Any) -> Any:
+        return None if v is None else _finite(v)
+
+    @field_validator("navigate_through_poses", "follow_waypoints")
+    @classmethod
+    def _finite_poses(cls, v: Any) -> Any:
+        return None if v is None else [_finite(p) for p in v]
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> TaskSpec:
+        given = [name for name in type(self).model_fields if getattr(self, name) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "a task is exactly one of navigate_to_pose, navigate_through_poses, "
+                f"follow_waypoints, explore (got {', '.join(given) or 'none'})"
+            )
+        return self
+
+    @property
+    def kind(self) -> str:
+        return next(n for n in type(self).model_fields if getattr(self, n) is not None)
+
+    @property
+    def poses(self) -> list[tuple[float, float, float]]:
+        value = getattr(self, self.kind)
+        if self.kind == "navigate_to_pose":
+            return [value]
+        return list(value) if isinstance(value, list) else []
+
+
+class MissionSpec(StrictModel):
+    """A whole mission file, as written (paths still relative to it)."""
+
+    mission: str = Field("", max_length=200, description="the mission's name")
+    world: str = Field(min_length=1)
+    params: str | None = None
+    map: str | None = None
+    localization: Literal["amcl", "slam", "ground_truth"] = "ground_truth"
+    initial_pose: Pose | None = None
+    tree: str | None = None
+    task: TaskSpec
+    time_limit: float = Field(600.0, gt=0.0, description="sim seconds before the task is canceled")
+    seed: int = Field(0, ge=0)
+    outputs: list[str] = Field(default_factory=lambda: list(DEFAULT_OUTPUTS))
+    plugins: list[str] = Field(default_factory=list)
+
+    @field_validator("initial_pose")
+    @classmethod
+    def _finite_start(cls, v: Any) -> Any:
+        return None if v is None else _finite(v)
+
+
+def _apply_overrides(doc: YamlMap, overrides: Mapping[str, Any]) -> tuple[YamlMap, list[str]]:
+    """`--set mission.KEY=VALUE`: write each value into a copy of the document."""
+    doc = copy_tree(doc)
+    changed = []
+    for key, value in overrides.items():
+        parts = key.split(".")
+        if parts[0] == "mission":
+            parts = parts[1:]
+        if not parts or not all(parts):
+            raise MissionError(f"'{key}' is not a dotted mission key", key=key)
+        try:
+            set_path(doc, parts, value, key)
+        except BtnavError as err:
+            raise MissionError(err.message, key=key) from None
+        changed.append(".".join(parts))
+    return doc, changed
+
+
+def load_mission_spec(
+    path: str | PathLike[str], overrides: Mapping[str, Any] | None = None
+) -> tuple[MissionSpec, Any]:
+    """Read and validate a mission file (with `--set mission.*` overrides); the spec and document."""
+    file = str(path)
+    doc = load_yaml(path)
+    if not isinstance(doc, YamlMap):
+        raise MissionError(
+            "a mission file is a mapping (mission, world, params, map, task, ...)",
+            file=file,
+            line=getattr(doc, "line", None),
+        )
+    changed: list[str] = []
+    if overrides:
+        doc, changed = _apply_overrides(doc, overrides)
+    try:
+        spec = validate(MissionSpec, doc, file=file, error_cls=MissionError)
+    except MissionError as err:
+        if err.key and any(err.key == c or err.key.startswith(c + ".") for c in changed):
+            raise MissionError(
+                f"{err.message} (value given by --set)", key=err.key, suggestion=err.suggestion
+            ) from None
+        raise
+    _check_planned(spec, doc, file)
+    return spec, doc
+
+
+def _check_planned(spec: MissionSpec, doc: Any, file: str) -> None:
+    for i, name in enumerate(spec.outputs):
+        if name in OUTPUTS:
+            continue
+        where = dict(file=file, line=line_at(doc, ["outputs", i]), key=f"outputs[{i}]")
+        if name in PLANNED_OUTPUTS:
+            raise MissionError(
+                f"output '{name}' ({PLANNED_OUTPUTS[name]}) is not available yet; "
+                f"btnav writes {', '.join(OUTPUTS)}",
+                **where,
+            )
+        raise MissionError(
+            f"unknown output '{name}'; outputs are {', '.join(OUTPUTS)}",
+            suggestion=best_match(name, list(OUTPUTS)),
+            **where,
+        )
+    if spec.task.kind in PLANNED_TASKS:
+        raise MissionError(
+            f"task '{spec.task.kind}' is not available yet: {PLANNED_TASKS[spec.task.kind]}",
+            file=file,
+            line=line_at(doc, ["task", spec.task.kind]),
+            key=f"task.{spec.task.kind}",
+        )
+
+
+def resolve(base: Path, value: str) -> Path:
+    """A path in a mission, relative to the mission file."""
+    p = Path(value).expanduser()
+    return p if p.is_absolute() else base / p
