@@ -125,6 +125,10 @@ def validation_error(
         if len(shown) > 60:
             shown = shown[:57] + "..."
         msg = f"{err['msg']} (got {shown})"
+        if err["type"] == "value_error":  # our validators' own sentence, without pydantic's prefix
+            msg = str(err.get("ctx", {}).get("error", err["msg"]))
+            if not isinstance(got, dict | list):
+                msg += f" (got {shown})"
     if len(errors) > 1:
         msg += f" [and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''}]"
     return error_cls(

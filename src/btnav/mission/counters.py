@@ -2,15 +2,15 @@
 
 A bt_navigator tick listener. `recoveries` adds up Nav2's `number_recoveries` of each
 navigation goal (the count its RecoveryNodes keep on the blackboard, which the
-navigator resets per goal); `replans` counts each new `path` on the blackboard after
-the first of a goal (Nav2's default trees replan at 1 Hz, and on a new goal or a
-blocked path).
+navigator resets per goal); `replans` counts each new non-empty `path` on the
+blackboard after the first of a goal (a failed ComputePathToPose writes an empty one).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from ..core.messages import Path
 from ..navigators.bt_navigator import blackboard_value
 
 RECOVERIES = "number_recoveries"
@@ -40,7 +40,7 @@ class NavigationCounters:
         if count > self._goal_recoveries:
             self.recoveries += count - self._goal_recoveries
             self._goal_recoveries = count
-        if path is not None and path is not self._path:
+        if isinstance(path, Path) and len(path) and path is not self._path:
             self.replans += self._planned
             self._planned = True
             self._path = path

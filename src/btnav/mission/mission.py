@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 
 from ..bt.bundled import find_tree
 from ..core.errors import BtnavError, WorldError
+from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
 from ..core.resources import bundled_dir
 from ..core.yaml_io import line_at
@@ -27,8 +28,10 @@ from ..params.loader import load_params
 from ..params.paramsfile import ParamsFile
 from ..params.updates import apply_overrides
 from ..plugins import load_plugins, names
+from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
+from .param_frames import check_frames
 from .spec import MissionError, MissionSpec, load_mission_spec, resolve
 
 N = TypeVar("N", bound=Navigator)
@@ -126,19 +129,30 @@ class Mission:
             try:
                 tree = str(find_tree(spec.tree, base_dir=base))
             except BtnavError as err:
-                raise err.located(**where("tree")) from None
+                raise _located(err, where("tree")) from None
         return cls(spec, file, doc, world, params, map_file, tree)
 
     # -- running --------------------------------------------------------------------------
 
-    def navigator(self, cls: type[N] = Navigator) -> N:  # type: ignore[assignment]
-        """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0."""
+    def build_world(self) -> World:
         try:
-            world = World(self.world, seed=self.seed, file=self.world.file)
+            return World(self.world, seed=self.seed, file=self.world.file)
         except WorldError as err:
             if self.spec.initial_pose is not None and err.key == "robot.pose":
-                raise MissionError(err.message, **self.where("initial_pose")) from None
+                raise MissionError(
+                    f"{err.message} (in the world {err.file})", **self.where("initial_pose")
+                ) from None
             raise
+
+    def frame_tree(self, world: World | None = None) -> FrameTree:
+        """The robot's frame tree at t = 0 (REP-105 and its sensors' frames)."""
+        return world_frame_tree(world if world is not None else self.build_world(), self.seed)
+
+    def navigator(self, cls: type[N] = Navigator) -> N:  # type: ignore[assignment]
+        """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0;
+        first, every frame the params name is checked against the robot's frame tree."""
+        world = self.build_world()
+        check_frames(self.params, self.frame_tree(world))
         nav = cls.from_files(
             world,
             self.params,
@@ -150,7 +164,7 @@ class Mission:
             try:
                 nav.use_tree(self.tree, TASK_ACTION.get(self.task, "NavigateToPose"))
             except BtnavError as err:
-                raise err.located(**self.where("tree")) from None
+                raise _located(err, self.where("tree")) from None
         if self.spec.initial_pose is not None:
             nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
         return nav
@@ -159,6 +173,11 @@ class Mission:
 def _where(file: Path, doc: Any, *key: str | int) -> dict[str, Any]:
     """file, line and key of `key` in the mission file, for an error."""
     return dict(file=str(file), line=line_at(doc, key), key=".".join(map(str, key)))
+
+
+def _located(err: BtnavError, where: dict[str, Any]) -> BtnavError:
+    """An error from a file the mission names keeps its place; one without gets the mission's."""
+    return err if err.file else err.located(**where)
 
 
 def _existing(path: Path, key: str, where: Any) -> Path:

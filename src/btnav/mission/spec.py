@@ -23,6 +23,7 @@ in the map frame. `task` holds exactly one of `navigate_to_pose`,
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from os import PathLike
 from pathlib import Path
@@ -205,4 +206,4 @@ def _check_planned(spec: MissionSpec, doc: Any, file: str) -> None:
 def resolve(base: Path, value: str) -> Path:
     """A path in a mission, relative to the mission file."""
     p = Path(value).expanduser()
-    return p if p.is_absolute() else base / p
+    return Path(os.path.normpath(p if p.is_absolute() else base / p))

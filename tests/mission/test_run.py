@@ -1,0 +1,158 @@
+"""Whole missions through `btnav run`: what a user sees in the report, trajectory and tick log."""
+
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+import btnav
+from btnav.cli import main
+from btnav.core.error_codes import ComputePathToPoseError
+from btnav.mission import Mission, run_mission
+from btnav.mission.trajectory import COLUMNS
+
+from .missions import TOLERANCE, TOUR, read_report, world_with, write_mission
+
+pytestmark = pytest.mark.slow
+
+
+def trajectory(out: Path) -> list[dict[str, float]]:
+    with open(out / "trajectory.csv") as f:
+        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def bt_log(out: Path) -> list[dict]:
+    return [json.loads(line) for line in (out / "bt_log.jsonl").read_text().splitlines()]
+
+
+def test_the_office_tour_with_nav2s_xml_tree_reaches_every_waypoint_untouched(
+    tmp_path, nav2_dir, capsys
+):
+    tree = nav2_dir / "behavior_trees" / "navigate_to_pose_w_replanning_and_recovery.xml"
+    tour = Mission.load(TOUR)
+    path = write_mission(
+        tmp_path,
+        "tour",
+        tree=str(tree),
+        initial_pose=list(tour.spec.initial_pose),
+        task={"follow_waypoints": [list(p) for p in tour.spec.task.poses]},
+        time_limit=300,
+    )
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.startswith("tour: succeeded") and str(out) in printed
+
+    report = read_report(out)
+    assert report["status"] == "succeeded" and report["error_code"] is None
+    assert report["collisions"] == 0 and report["missed_waypoints"] == []
+    assert report["localization_error"]["max_xy"] < 0.05  # ground truth, up to odometry lag
+    rows = trajectory(out)
+    assert list(rows[0]) == list(COLUMNS)
+    assert len(rows) == pytest.approx(report["sim_time"] * 20, abs=2)  # controller_frequency
+    # every waypoint reached, in order
+    t_reached = []
+    for x, y, _ in tour.spec.task.poses:
+        near = [r["t"] for r in rows if math.hypot(r["gt_x"] - x, r["gt_y"] - y) <= TOLERANCE]
+        assert near, f"waypoint ({x}, {y}) never reached"
+        t_reached.append(min(t for t in near if not t_reached or t > t_reached[-1]))
+    assert t_reached == sorted(t_reached)
+    steps = [
+        math.hypot(b["gt_x"] - a["gt_x"], b["gt_y"] - a["gt_y"])
+        for a, b in itertools.pairwise(rows)
+    ]
+    assert report["path_length"] == pytest.approx(sum(steps), rel=1e-6)
+    assert max(abs(r["cmd_v"]) for r in rows) <= 0.5 + 1e-9  # MPPI's vx_max in Nav2's file
+
+    log = bt_log(out)
+    names = {e["node_name"] for e in log}
+    assert any(n.endswith("NavigateRecovery") for n in names)
+    assert any(n.endswith("FollowPath") for n in names)
+    assert {e["current_status"] for e in log} <= {"IDLE", "RUNNING", "SUCCESS", "FAILURE"}
+    roots = [e for e in log if e["uid"] == 0 and e["current_status"] == "SUCCESS"]
+    assert len(roots) == 4  # the tree succeeded once per waypoint
+    assert all(a["timestamp"] <= b["timestamp"] for a, b in itertools.pairwise(log))
+
+
+def test_an_unreachable_goal_fails_with_nav2s_code_after_the_recoveries(tmp_path):
+    path = write_mission(tmp_path, "unreachable", task={"navigate_to_pose": [6.5, 1.2, 0.0]})
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 1
+    report = read_report(out)
+    assert report["status"] == "failed"
+    assert report["error_code"] == ComputePathToPoseError.NO_VALID_PATH
+    assert report["error_msg"]
+    assert report["recoveries"] >= 6  # the RecoveryNode's number_of_retries, and more inside
+    assert report["collisions"] == 0 and report["replans"] == 0
+    log = bt_log(out)
+    ran = {e["node_name"].rsplit(".", 1)[-1] for e in log if e["current_status"] == "RUNNING"}
+    assert {"Spin", "Wait", "BackUp"} <= ran  # the recovery branch's RoundRobin went round
+    assert [e for e in log if e["uid"] == 0][-1]["current_status"] == "FAILURE"
+
+
+def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path):
+    # A door slides shut over the x = 4 doorway (y 3-4) 4 s into the run; the map
+    # does not know it, so only the lidar can tell the planner to go round by the top.
+    door = {
+        "box": {
+            "center": [4.0, 1.8],
+            "size": [0.3, 1.3],
+            "moves": {"path": [[4.0, 3.5]], "speed": 0.4, "loop": False},
+        }
+    }
+    path = write_mission(
+        tmp_path,
+        "blocked",
+        world=str(world_with(tmp_path, door)),
+        task={"navigate_to_pose": [6.0, 3.0, 0.0]},
+        time_limit=300,
+    )
+    out = tmp_path / "out"
+    report = run_mission(Mission.load(path), out)
+    assert report.succeeded and report.collisions == 0
+    assert report.replans >= 1
+    rows = trajectory(out)
+    through_top = [r for r in rows if 3.8 < r["gt_x"] < 4.2 and 6.0 < r["gt_y"] < 7.0]
+    assert through_top, "the robot did not go round through the upper doorway"
+    assert math.hypot(rows[-1]["gt_x"] - 6.0, rows[-1]["gt_y"] - 3.0) <= TOLERANCE
+
+
+def test_the_same_seed_gives_the_same_run_bit_for_bit(tmp_path):
+    path = write_mission(tmp_path, "short", task={"navigate_to_pose": [3.0, 2.0, 1.57]})
+    outs = [tmp_path / "a", tmp_path / "b", tmp_path / "c"]
+    run_mission(Mission.load(path), outs[0])
+    run_mission(Mission.load(path), outs[1])
+    run_mission(Mission.load(path, seed=1), outs[2])
+    for name in ("trajectory.csv", "bt_log.jsonl"):
+        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes()
+    a, b = read_report(outs[0]), read_report(outs[1])
+    assert {k: v for k, v in a.items() if k != "wall_time"} == {
+        k: v for k, v in b.items() if k != "wall_time"
+    }
+    other = trajectory(outs[2])
+    assert [r["odom_x"] for r in other] != [r["odom_x"] for r in trajectory(outs[0])]
+
+
+def test_a_time_limit_cancels_the_task(tmp_path):
+    out = tmp_path / "out"
+    code = main(["run", str(TOUR), "--out", str(out), "--set", "mission.time_limit=3"])
+    assert code == 1
+    report = read_report(out)
+    assert report["status"] == "canceled" and "time_limit" in report["error_msg"]
+    assert 3.0 <= report["sim_time"] < 4.0
+    assert trajectory(out)[-1]["cmd_v"] == 0.0  # canceled means stopped
+
+
+def test_navigator_from_mission_is_the_python_api(tmp_path):
+    assert btnav.Navigator is btnav.mission.Navigator
+    nav = btnav.Navigator.from_mission(TOUR, seed=2)
+    assert nav.mission.seed == 2 and nav.now == 0.0
+    assert nav.go_to_pose((3.0, 2.0, 1.57))
+    result = nav.wait_until_done(60)
+    assert result is not None and result.succeeded
+    assert math.hypot(nav.robot_pose.x - 3.0, nav.robot_pose.y - 2.0) <= TOLERANCE

@@ -1,0 +1,145 @@
+"""The mission file: what it accepts, and a located error with a suggestion for every mistake."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from btnav.core.errors import BtnavError, FrameError, ParamsError
+from btnav.mission import Mission, MissionError
+
+from .missions import MAP, TOUR, WORLD, write_mission
+
+
+def error_of(path: Path, **kw) -> BtnavError:
+    with pytest.raises(BtnavError) as info:
+        Mission.load(path, **kw).navigator()
+    return info.value
+
+
+def test_the_demo_mission_loads_with_nav2s_params_unchanged():
+    m = Mission.load(TOUR)
+    assert m.name == "office_tour" and m.seed == 0 and m.task == "follow_waypoints"
+    assert len(m.spec.task.poses) == 4
+    assert m.params.path.name == "nav2_params.yaml"
+    assert m.spec.outputs == ["report", "trajectory", "bt_log"]
+    assert m.tree is None  # bt_navigator's default tree
+
+
+def test_paths_are_relative_to_the_mission_and_defaults_fill_the_rest(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "world.yaml").write_text(WORLD.read_text())
+    path = write_mission(tmp_path / "sub", world="../world.yaml", task={"navigate_to_pose": [3, 2]})
+    m = Mission.load(path)
+    assert m.world.file == str(tmp_path / "world.yaml")
+    assert m.spec.task.poses == [(3.0, 2.0, 0.0)]  # [x, y] means yaw 0
+    assert m.spec.time_limit == 600 and m.spec.seed == 0
+    nav = m.navigator()
+    assert nav.robot_pose.x == 1.0  # the world's start pose
+
+
+def test_a_misspelt_key_names_file_line_and_spelling(tmp_path):
+    path = write_mission(tmp_path, task={"navigate_to_pose": [3, 2]}, tiem_limit=20)
+    err = error_of(path)
+    assert isinstance(err, MissionError)
+    line = path.read_text().splitlines().index("tiem_limit: 20") + 1
+    assert err.file == str(path) and err.line == line and err.key == "tiem_limit"
+    assert err.suggestion == "time_limit"
+
+
+def test_a_task_is_exactly_one_of_four(tmp_path):
+    path = write_mission(
+        tmp_path, task={"navigate_to_pose": [3, 2], "follow_waypoints": [[1, 2], [3, 2]]}
+    )
+    err = error_of(path)
+    assert err.key == "task" and "exactly one of" in err.message
+    assert "navigate_to_pose, follow_waypoints" in err.message
+    err = error_of(write_mission(tmp_path, task={"folow_waypoints": [[1, 2]]}))
+    assert err.key == "task.folow_waypoints" and err.suggestion == "follow_waypoints"
+    err = error_of(write_mission(tmp_path, task={"navigate_to_pose": [3, "x", 0]}))
+    assert err.key.startswith("task.navigate_to_pose")
+
+
+def test_what_btnav_cannot_do_yet_is_said_plainly(tmp_path):
+    err = error_of(write_mission(tmp_path, task={"explore": {}}))
+    assert err.key == "task.explore" and "not available yet" in err.message
+    err = error_of(write_mission(tmp_path, localization="amcl", task={"navigate_to_pose": [3, 2]}))
+    assert err.key == "localization" and "ground_truth" in err.message
+    err = error_of(
+        write_mission(tmp_path, outputs=["report", "gif"], task={"navigate_to_pose": [3, 2]})
+    )
+    assert err.key == "outputs[1]" and "not available yet" in err.message
+    err = error_of(write_mission(tmp_path, outputs=["reprot"], task={"navigate_to_pose": [3, 2]}))
+    assert err.suggestion == "report"
+
+
+def test_missing_files_name_the_key_that_names_them(tmp_path):
+    err = error_of(write_mission(tmp_path, map="nowhere.yaml", task={"navigate_to_pose": [3, 2]}))
+    assert err.key == "map" and "not found" in err.message and err.line == 4
+    doc = write_mission(tmp_path, task={"navigate_to_pose": [3, 2]})
+    doc.write_text(doc.read_text().replace(f"map: {MAP}\n", ""))
+    err = error_of(doc)
+    assert err.key == "localization" and "needs a map" in err.message
+
+
+def test_a_start_pose_in_the_table_names_the_missions_line(tmp_path):
+    path = write_mission(tmp_path, initial_pose=[6.5, 1.2, 0.0], task={"navigate_to_pose": [3, 2]})
+    err = error_of(path)
+    assert err.file == str(path) and err.key == "initial_pose"
+    assert "overlaps" in err.message and str(WORLD) in err.message
+
+
+def test_an_initial_pose_moves_the_robot(tmp_path):
+    path = write_mission(tmp_path, initial_pose=[2.0, 1.0, 1.0], task={"navigate_to_pose": [3, 2]})
+    nav = Mission.load(path).navigator()
+    assert (nav.robot_pose.x, nav.robot_pose.y, nav.robot_pose.yaw) == (2.0, 1.0, 1.0)
+    assert nav.runtime.robot_pose().x == pytest.approx(2.0)  # map -> base_footprint agrees
+
+
+def test_a_tree_is_a_bundled_name_or_a_file_and_mistakes_point_into_it(tmp_path, nav2_dir):
+    ok = write_mission(
+        tmp_path, tree="navigate_w_replanning_time", task={"navigate_to_pose": [3, 2]}
+    )
+    assert Mission.load(ok).tree.endswith("navigate_w_replanning_time.yaml")
+    err = error_of(
+        write_mission(
+            tmp_path, tree="navigate_to_pose_w_replaning", task={"navigate_to_pose": [3, 2]}
+        )
+    )
+    assert err.key == "tree" and err.suggestion == "navigate_to_pose_w_replanning_and_recovery"
+    xml = (
+        nav2_dir / "behavior_trees" / "navigate_to_pose_w_replanning_and_recovery.xml"
+    ).read_text()
+    bad = tmp_path / "bad.xml"
+    bad.write_text(xml.replace("ComputePathToPose goal=", "ComputePathToPose gaol="))
+    err = error_of(write_mission(tmp_path, tree=str(bad), task={"navigate_to_pose": [3, 2]}))
+    assert err.file == str(bad) and err.line is not None and err.suggestion == "goal"
+
+
+def test_set_overrides_the_mission_and_the_params(tmp_path):
+    m = Mission.load(
+        TOUR,
+        seed=4,
+        overrides={
+            "mission.time_limit": 12,
+            "local_costmap.local_costmap.inflation_layer.inflation_radius": 0.4,
+        },
+    )
+    assert m.seed == 4 and m.spec.time_limit == 12
+    inflation = m.params.server("local_costmap").plugins["inflation_layer"].params
+    assert inflation.inflation_radius == 0.4
+    with pytest.raises(MissionError) as info:
+        Mission.load(TOUR, overrides={"mission.time_limt": 3})
+    assert info.value.suggestion == "time_limit" and "--set" in info.value.message
+    with pytest.raises(ParamsError) as info:
+        Mission.load(TOUR, overrides={"controller_server.controller_frequncy": 3})
+    assert info.value.suggestion == "controller_frequency" and "--set" in info.value.message
+
+
+def test_a_frame_the_params_name_must_be_in_the_robots_tree():
+    with pytest.raises(FrameError) as info:
+        Mission.load(TOUR, overrides={"bt_navigator.robot_base_frame": "base_lnk"}).navigator()
+    err = info.value
+    assert err.key == "bt_navigator.robot_base_frame" and err.suggestion == "base_link"
+    assert err.file.endswith("nav2_params.yaml") and err.line == 46
