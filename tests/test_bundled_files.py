@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
+from btnav.core.resources import BUNDLED_KINDS
 from btnav.maps import load_map
+from btnav.mission import Mission, MissionError
 from btnav.sim.rasterize import rasterize
 from btnav.sim.world import World
 
@@ -26,3 +31,27 @@ def test_small_office_map_is_the_rasterised_world():
 
 def test_params_nav2_params_is_nav2s_file_byte_for_byte(nav2_params_file):
     assert (REPO / "params" / "nav2_params.yaml").read_bytes() == nav2_params_file.read_bytes()
+
+
+def test_an_installed_btnav_carries_the_bundled_folders(tmp_path):
+    """setup.py's build step (what a wheel holds) copies trees, worlds, maps, params and
+    missions into btnav/data, where `bundled_dir` looks in an installed btnav."""
+    subprocess.run(
+        [sys.executable, "setup.py", "-q", "build_py", "--build-lib", str(tmp_path)],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+    )
+    for kind in BUNDLED_KINDS:
+        for file in (REPO / kind).rglob("*"):
+            if file.is_file() and "__pycache__" not in file.parts:
+                packed = tmp_path / "btnav" / "data" / kind / file.relative_to(REPO / kind)
+                assert packed.read_bytes() == file.read_bytes()
+
+
+def test_a_bundled_mission_is_found_by_its_bare_name(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # nothing called office_tour here
+    assert Mission.load("office_tour").file == REPO / "missions" / "office_tour.yaml"
+    with pytest.raises(MissionError) as info:
+        Mission.load("office_tur")
+    assert info.value.suggestion == "office_tour"

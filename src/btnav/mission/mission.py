@@ -21,6 +21,7 @@ from ..core.errors import BtnavError, WorldError
 from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
 from ..core.resources import bundled_dir
+from ..core.suggest import best_match
 from ..core.yaml_io import line_at
 from ..maps.map_io import load_map
 from ..navigators.navigator import Navigator
@@ -87,7 +88,7 @@ class Mission:
         overrides: Mapping[str, Any] | None = None,
     ) -> Mission:
         """Read the mission and everything it names; any mistake is a located `BtnavError`."""
-        file = Path(path)
+        file = find_mission(path)
         mission_over, params_over = split_overrides(overrides or {})
         if seed is not None:
             mission_over["mission.seed"] = seed
@@ -168,6 +169,22 @@ class Mission:
         if self.spec.initial_pose is not None:
             nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
         return nav
+
+
+def find_mission(name: str | PathLike[str]) -> Path:
+    """A mission file, or a bundled mission's bare name (`office_tour`)."""
+    path = Path(name)
+    if path.is_file() or path.parent != Path(".") or path.suffix not in ("", ".yaml", ".yml"):
+        return path  # a missing file here is load_yaml's located error
+    folder = bundled_dir("missions")
+    bundled = sorted(p.stem for p in folder.glob("*.yaml"))
+    if path.stem in bundled:
+        return folder / f"{path.stem}.yaml"
+    raise MissionError(
+        f"no mission file '{name}', nor a bundled mission of that name "
+        f"(bundled: {', '.join(bundled) or 'none'})",
+        suggestion=best_match(path.stem, bundled),
+    )
 
 
 def _where(file: Path, doc: Any, *key: str | int) -> dict[str, Any]:
