@@ -13,6 +13,7 @@ from btnav.maps import load_map
 
 REPO = Path(__file__).resolve().parents[1]
 OFFICE = REPO / "worlds" / "small_office.yaml"
+TOUR = REPO / "missions" / "office_tour.yaml"
 
 
 def run_cli(*args: str) -> subprocess.CompletedProcess[str]:
@@ -83,3 +84,36 @@ def test_tree_import_and_show_through_the_command(nav2_dir, tmp_path):
     assert proc.returncode == 0 and "ComputePathToPose" in proc.stdout
     proc = run_cli("tree", "show", "navigate_to_pose_w_replanning_and_recovry")
     assert proc.returncode == 2 and "did you mean" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_a_mistake_in_a_mission_is_one_line_and_exit_2(tmp_path):
+    mission = tmp_path / "m.yaml"
+    mission.write_text(
+        f"world: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\n"
+        "task:\n  navigate_to_pose: [3, 2]\noutputs: [report, trajectry]\n"
+    )
+    result = run_cli("run", str(mission), "--out", str(tmp_path / "out"))
+    assert result.returncode == 2 and result.stdout == ""
+    assert result.stderr.strip().count("\n") == 0 and "Traceback" not in result.stderr
+    assert (
+        f"{mission}:5: outputs[1]:" in result.stderr
+        and "did you mean 'trajectory'" in result.stderr
+    )
+    assert not (tmp_path / "out").exists()  # nothing ran
+    bad_set = run_cli(
+        "run", "missions/office_tour.yaml", "--set", "controller_server.controller_frequncy=5"
+    )
+    assert bad_set.returncode == 2 and "did you mean 'controller_frequency'" in bad_set.stderr
+
+
+def test_frames_prints_the_tree_and_checks_every_frame_the_params_name(capsys):
+    assert main(["frames", str(TOUR)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("map\n") and "laser" in out
+    assert "local_costmap.local_costmap.global_frame = odom (line 244): ok" in out
+    assert "docking_server.base_frame = base_link (line 547): not checked" in out
+    code = main(["frames", str(TOUR), "--set", "amcl.base_frame_id=base_foot"])
+    captured = capsys.readouterr()
+    assert code == 2 and "amcl.base_frame_id = base_foot (line 8): MISSING" in captured.out
+    assert "nav2_params.yaml:8: amcl.base_frame_id:" in captured.err
+    assert "did you mean 'base_footprint'" in captured.err
