@@ -25,7 +25,7 @@ from ..core.suggest import best_match
 from ..core.yaml_io import line_at
 from ..maps.map_io import load_map
 from ..navigators.navigator import Navigator
-from ..params.loader import load_params
+from ..params.loader import ROS_PARAMETERS, load_params
 from ..params.paramsfile import ParamsFile
 from ..params.updates import apply_overrides
 from ..plugins import load_plugins, names
@@ -149,6 +149,22 @@ class Mission:
         """The robot's frame tree at t = 0 (REP-105 and its sensors' frames)."""
         return world_frame_tree(world if world is not None else self.build_world(), self.seed)
 
+    def _tree_key(self, action: str) -> dict[str, Any]:
+        """Where the task's tree is named: the mission's `tree`, else bt_navigator's default."""
+        if self.tree is not None:
+            return self.where("tree")
+        key = (
+            "default_nav_through_poses_bt_xml"
+            if action == "NavigateThroughPoses"
+            else ("default_nav_to_pose_bt_xml")
+        )
+        raw = self.params.raw.get("bt_navigator")
+        return dict(
+            file=str(self.params.path),
+            line=line_at(raw, [ROS_PARAMETERS, key]) if raw is not None else None,
+            key=f"bt_navigator.{key}",
+        )
+
     def navigator(self, cls: type[N] = Navigator) -> N:  # type: ignore[assignment]
         """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0;
         first, every frame the params name is checked against the robot's frame tree."""
@@ -161,11 +177,11 @@ class Mission:
             seed=self.seed,
             localization=self.spec.localization,
         )
-        if self.tree is not None:
-            try:
-                nav.use_tree(self.tree, TASK_ACTION.get(self.task, "NavigateToPose"))
-            except BtnavError as err:
-                raise _located(err, self.where("tree")) from None
+        action = TASK_ACTION[self.task]
+        try:  # the task's tree is built now, so a bad tree is a load error, not a failed run
+            nav.use_tree(self.tree, action)
+        except BtnavError as err:
+            raise _located(err, self._tree_key(action)) from None
         if self.spec.initial_pose is not None:
             nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
         return nav

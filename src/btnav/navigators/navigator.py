@@ -97,13 +97,15 @@ class Navigator:
             nav.use_tree(tree)
         return nav
 
-    def use_tree(self, tree: str, action: str = "NavigateToPose") -> None:
-        """Make `tree` the default tree of bt_navigator's `action` navigators (NavigateToPose,
-        which waypoint_follower's goals use too, or NavigateThroughPoses), built and
-        validated now so a bad tree fails here and not at the first goal."""
+    def use_tree(self, tree: str | None, action: str = "NavigateToPose") -> None:
+        """Make `tree` (None: keep bt_navigator's default) the default tree of the `action`
+        navigators (NavigateToPose, which waypoint_follower's goals use too, or
+        NavigateThroughPoses), built and validated now so a bad tree fails here and not
+        at the first goal."""
         for navigator in self.bt_navigator.navigators.values():
             if navigator.action == action:
-                navigator.default_tree = tree
+                if tree:
+                    navigator.default_tree = tree
                 navigator.load()
 
     # -- tasks ------------------------------------------------------------------------------
