@@ -25,7 +25,8 @@ from .core.suggest import best_match, close_matches
 T = TypeVar("T")
 
 #: The kinds of plugin btnav knows, from the design brief plus the Nav2 sub-plugins
-#: (critics, path handlers, navigators, waypoint task executors, motion models).
+#: (critics, path handlers, navigators, waypoint task executors, motion models), and
+#: a run's extra outputs (`output`: pictures and whatever a user wants written).
 KINDS: tuple[str, ...] = (
     "planner",
     "controller",
@@ -42,6 +43,7 @@ KINDS: tuple[str, ...] = (
     "bt_node",
     "navigator",
     "waypoint_task_executor",
+    "output",
 )
 
 ENTRY_POINT_GROUP = "btnav.plugins"
@@ -137,7 +139,9 @@ def lookup(kind: str, name: str) -> Any:
 
 
 def is_registered(kind: str, name: str) -> bool:
-    return canonical(name) in _check_kind(kind)
+    table = _check_kind(kind)
+    load_entry_points()
+    return canonical(name) in table
 
 
 def names(kind: str, *, aliases: bool = False) -> list[str]:

@@ -32,8 +32,10 @@ from ..plugins import load_plugins, names
 from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
+from .errors import MissionError
+from .outputs import check_outputs
 from .param_frames import check_frames
-from .spec import MissionError, MissionSpec, load_mission_spec, resolve
+from .spec import MissionSpec, load_mission_spec, resolve
 
 N = TypeVar("N", bound=Navigator)
 
@@ -98,6 +100,7 @@ class Mission:
 
         if spec.plugins:
             load_plugins(spec.plugins, base, file=str(file))
+        check_outputs(spec.outputs, lambda i: where("outputs", i))
         _check_localization(spec, where)
 
         world_path = _existing(resolve(base, spec.world), "world", where)
@@ -205,7 +208,7 @@ def find_mission(name: str | PathLike[str]) -> Path:
 
 def _where(file: Path, doc: Any, *key: str | int) -> dict[str, Any]:
     """file, line and key of `key` in the mission file, for an error."""
-    return dict(file=str(file), line=line_at(doc, key), key=".".join(map(str, key)))
+    return dict(file=str(file), line=line_at(doc, key), key=list(key))
 
 
 def _located(err: BtnavError, where: dict[str, Any]) -> BtnavError:

@@ -4,7 +4,8 @@ The run builds the bring-up (`Mission.navigator`), adds the recorders its output
 need, sends the task as nav2_simple_commander would and polls it on sim time until
 it ends or `time_limit` passes (then it is canceled, as BasicNavigator's examples
 do). It writes `report.json`, `trajectory.csv`, `bt_log.jsonl` and the map as the
-mission's `outputs` ask. A navigation failure is a report with Nav2's error code,
+mission's `outputs` ask, then hands the run to each `output` plugin asked for
+(`png` with the viz extra). A navigation failure is a report with Nav2's error code,
 never an exception.
 """
 
@@ -22,8 +23,8 @@ from ..navigators.navigator import Navigator
 from .bt_log import BtLog
 from .counters import NavigationCounters
 from .mission import Mission
+from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin
 from .report import RunReport
-from .spec import OUTPUTS
 from .trajectory import TrajectoryRecorder
 
 
@@ -43,9 +44,10 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        for name in OUTPUTS:  # no stale file from an earlier run of another mission
-            for stale in OUTPUTS[name]:
+        for name in outputs:  # no stale file from an earlier run
+            for stale in output_files(name):
                 (out / stale).unlink(missing_ok=True)
+    plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator
     with ExitStack() as files:
@@ -53,13 +55,14 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
         def sink(name: str) -> Any:
             if name not in outputs or out is None:
                 return None
-            return files.enter_context(open(out / OUTPUTS[name][0], "w", newline="\n"))
+            return files.enter_context(open(out / output_files(name)[0], "w", newline="\n"))
 
         recorder = TrajectoryRecorder(
             nav.runtime,
             nav.stack.controller_server.rate,
             sink("trajectory"),
             global_frame=bt.params.global_frame,
+            keep_track=bool(plugins),
         )
         nav.runtime.add(recorder)
         counters = NavigationCounters()
@@ -85,9 +88,11 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
     report = _report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
     if out is not None:
         if "map" in outputs and nav.stack.map_server.map is not None:
-            save_map(nav.stack.map_server.map, out / OUTPUTS["map"][0])
+            save_map(nav.stack.map_server.map, out / output_files("map")[0])
+        for plugin in plugins.values():
+            plugin.write(RunOutput(out, mission, nav, report, recorder.track))
         if "report" in outputs:
-            report.write(out / OUTPUTS["report"][0])
+            report.write(out / output_files("report")[0])
     return report
 
 
@@ -127,5 +132,5 @@ def _report(
         localization_error=recorder.localization_error(),
         task=mission.task,
         goals=len(mission.spec.task.poses),
-        outputs=[f for name in outputs for f in OUTPUTS[name]],
+        outputs=[f for name in outputs for f in output_files(name)],
     )

@@ -31,15 +31,12 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, field_validator, model_validator
 
-from ..core.errors import BtnavError, ConfigError
-from ..core.suggest import best_match
+from ..core.errors import BtnavError
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import YamlMap, line_at, load_yaml
 from ..params.tree import copy_tree, set_path
-
-
-class MissionError(ConfigError):
-    """A mission file btnav cannot run."""
+from .errors import MissionError
+from .outputs import DEFAULT_OUTPUTS
 
 
 def _pose(v: Any) -> Any:
@@ -57,16 +54,6 @@ def _finite(v: tuple[float, float, float]) -> tuple[float, float, float]:
 Pose = Annotated[tuple[float, float, float], BeforeValidator(_pose)]
 Poses = Annotated[list[Pose], Field(min_length=1)]
 
-#: What a run can write (`outputs:`), and the files each one is.
-OUTPUTS = {
-    "report": ("report.json",),
-    "trajectory": ("trajectory.csv",),
-    "bt_log": ("bt_log.jsonl",),
-    "map": ("map.yaml", "map.pgm"),
-}
-#: Outputs the brief names that btnav cannot write yet.
-PLANNED_OUTPUTS = {"png": "pictures of a run", "gif": "animations of a run"}
-DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
 #: Tasks the brief names that btnav cannot run yet.
 PLANNED_TASKS = {"explore": "frontier exploration needs SLAM, which btnav does not have yet"}
 
@@ -174,26 +161,11 @@ def load_mission_spec(
                 f"{err.message} (value given by --set)", key=err.key, suggestion=err.suggestion
             ) from None
         raise
-    _check_planned(spec, doc, file)
+    _check_task(spec, doc, file)
     return spec, doc
 
 
-def _check_planned(spec: MissionSpec, doc: Any, file: str) -> None:
-    for i, name in enumerate(spec.outputs):
-        if name in OUTPUTS:
-            continue
-        where = dict(file=file, line=line_at(doc, ["outputs", i]), key=f"outputs[{i}]")
-        if name in PLANNED_OUTPUTS:
-            raise MissionError(
-                f"output '{name}' ({PLANNED_OUTPUTS[name]}) is not available yet; "
-                f"btnav writes {', '.join(OUTPUTS)}",
-                **where,
-            )
-        raise MissionError(
-            f"unknown output '{name}'; outputs are {', '.join(OUTPUTS)}",
-            suggestion=best_match(name, list(OUTPUTS)),
-            **where,
-        )
+def _check_task(spec: MissionSpec, doc: Any, file: str) -> None:
     if spec.task.kind in PLANNED_TASKS:
         raise MissionError(
             f"task '{spec.task.kind}' is not available yet: {PLANNED_TASKS[spec.task.kind]}",

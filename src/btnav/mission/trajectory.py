@@ -5,13 +5,17 @@ cmd_w`: the ground-truth pose, the localiser's estimate (the frame tree's
 `map -> base_footprint`), the wheel odometry and the command the controller sent.
 The recorder runs in the runtime's MONITOR stage at the controller's rate, so each row
 sees the command of that control cycle. Rows stream to the file as they come (a long
-run keeps no history in memory); the sums the report needs are kept as it goes.
+run keeps no history in memory); the sums the report needs are kept as it goes, and
+the poses themselves only with `keep_track` (for pictures).
 """
 
 from __future__ import annotations
 
 import math
+from array import array
 from typing import TextIO
+
+import numpy as np
 
 from ..core.geometry import normalize_angle
 from ..nav.runtime import Runtime, Stage
@@ -45,6 +49,7 @@ class TrajectoryRecorder:
         *,
         global_frame: str = "map",
         base_frame: str = "base_footprint",
+        keep_track: bool = False,
     ) -> None:
         self.runtime = runtime
         self.rate = rate
@@ -57,6 +62,7 @@ class TrajectoryRecorder:
         self._sum_sq_xy = 0.0
         self._sum_sq_yaw = 0.0
         self.max_xy = 0.0
+        self._track: array[float] | None = array("d") if keep_track else None
         if sink is not None:
             sink.write(",".join(COLUMNS) + "\n")
 
@@ -74,10 +80,19 @@ class TrajectoryRecorder:
         self._sum_sq_yaw += normalize_angle(est.yaw - gt.yaw) ** 2
         self.max_xy = max(self.max_xy, math.sqrt(err_sq))
         self.rows += 1
+        if self._track is not None:
+            self._track.extend((now, gt.x, gt.y, gt.yaw, est.x, est.y, est.yaw))
         if self.sink is not None:
             row = (now, gt.x, gt.y, gt.yaw, est.x, est.y, est.yaw)
             row += (odom.x, odom.y, odom.yaw, cmd.linear_x, cmd.angular_z)
             self.sink.write(",".join(map(repr, row)) + "\n")
+
+    @property
+    def track(self) -> np.ndarray:
+        """(rows, 7): t, gt_x, gt_y, gt_yaw, est_x, est_y, est_yaw (with `keep_track`)."""
+        if self._track is None:
+            return np.zeros((0, 7))
+        return np.frombuffer(self._track, dtype=float).reshape(-1, 7).copy()
 
     def localization_error(self) -> dict[str, float]:
         """`rms_xy`, `max_xy` (m) and `rms_yaw` (rad) of the estimate against ground truth."""

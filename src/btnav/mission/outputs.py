@@ -1,0 +1,93 @@
+"""A run's outputs: the built-in files, and `output` plugins for everything else.
+
+`report`, `trajectory`, `bt_log` and `map` are written by the run itself. Any other
+name in a mission's `outputs:` is an `output` plugin (`@register("output", "png")`),
+called once the run has ended with a `RunOutput`; `files` lists what it writes.
+The `viz` extra registers `png` (`run.png`). A user's output is a peer:
+
+```python
+@register("output", "speed_plot")
+class SpeedPlot:
+    files = ("speed.png",)
+
+    def write(self, run: RunOutput) -> None:
+        ...  # run.track, run.report, run.navigator, run.out_dir
+```
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..core.suggest import best_match
+from ..plugins import is_registered, lookup, names
+from .errors import MissionError
+
+#: Written by the run itself, and the files each one is.
+BUILTIN_OUTPUTS: dict[str, tuple[str, ...]] = {
+    "report": ("report.json",),
+    "trajectory": ("trajectory.csv",),
+    "bt_log": ("bt_log.jsonl",),
+    "map": ("map.yaml", "map.pgm"),
+}
+DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
+#: Outputs the brief names that btnav cannot write yet.
+PLANNED_OUTPUTS = {"gif": "animations of a run"}
+
+
+@dataclass
+class RunOutput:
+    """What an output plugin gets once a run has ended."""
+
+    out_dir: Path
+    mission: Any  # Mission
+    navigator: Any  # Navigator, its world and stack as the run left them
+    report: Any  # RunReport
+    track: np.ndarray  # one row per control cycle: t, gt_x, gt_y, gt_yaw, est_x, est_y, est_yaw
+
+
+class OutputPlugin(Protocol):
+    files: tuple[str, ...]
+
+    def write(self, run: RunOutput) -> None: ...
+
+
+def output_names() -> list[str]:
+    return [*BUILTIN_OUTPUTS, *(n for n in names("output") if n not in BUILTIN_OUTPUTS)]
+
+
+def is_output(name: str) -> bool:
+    return name in BUILTIN_OUTPUTS or is_registered("output", name)
+
+
+def output_files(name: str) -> tuple[str, ...]:
+    if name in BUILTIN_OUTPUTS:
+        return BUILTIN_OUTPUTS[name]
+    return tuple(lookup("output", name).files)
+
+
+def output_plugin(name: str) -> OutputPlugin:
+    return lookup("output", name)()
+
+
+def check_outputs(wanted: list[str], where: Callable[[int], dict[str, Any]]) -> None:
+    """Each name is a built-in output or a registered `output` plugin; `where(i)` locates item i."""
+    for i, name in enumerate(wanted):
+        if is_output(name):
+            continue
+        if name in PLANNED_OUTPUTS:
+            raise MissionError(
+                f"output '{name}' ({PLANNED_OUTPUTS[name]}) is not available yet; "
+                f"outputs are {', '.join(output_names())}",
+                **where(i),
+            )
+        raise MissionError(
+            f"unknown output '{name}'; outputs are {', '.join(output_names())}",
+            suggestion=best_match(name, output_names()),
+            **where(i),
+        )
