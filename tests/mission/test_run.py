@@ -156,3 +156,17 @@ def test_navigator_from_mission_is_the_python_api(tmp_path):
     result = nav.wait_until_done(60)
     assert result is not None and result.succeeded
     assert math.hypot(nav.robot_pose.x - 3.0, nav.robot_pose.y - 2.0) <= TOLERANCE
+
+
+def test_navigate_through_poses_passes_each_pose_in_one_goal(tmp_path):
+    poses = [[3.0, 2.0, 1.57], [6.0, 3.0, 0.0]]
+    path = write_mission(tmp_path, "through", task={"navigate_through_poses": poses})
+    out = tmp_path / "out"
+    report = run_mission(Mission.load(path), out)
+    assert report.succeeded and report.collisions == 0 and report.goals == 2
+    rows = trajectory(out)
+    for x, y, _ in poses:
+        assert min(math.hypot(r["gt_x"] - x, r["gt_y"] - y) for r in rows) <= TOLERANCE
+    log = bt_log(out)
+    assert {e["navigator"] for e in log} == {"navigate_through_poses"}
+    assert any(e["node_name"].endswith("ComputePathThroughPoses") for e in log)
