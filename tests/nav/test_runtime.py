@@ -182,3 +182,56 @@ def test_same_seed_same_run_bit_for_bit():
     c = trajectory(8)
     assert not np.array_equal(a["odom"], c["odom"])
     assert not np.array_equal(a["scans"], c["scans"])
+
+
+# -- the profiling hook ------------------------------------------------------------------
+
+
+class Listener:
+    name = "listener"
+
+    def __init__(self) -> None:
+        self.scans: list = []
+
+    def on_scan(self, scan) -> None:
+        self.scans.append(scan)
+
+
+def test_profile_is_off_by_default_and_a_profiled_run_is_the_same_run():
+    plain, profiled = make_runtime(), make_runtime()
+    assert plain.profile is None
+    plain.spin_for(1.0)
+    assert plain.profile is None
+    profiled.spin_for(1.0)
+    profiled.profile = {}
+    for rt in (plain, profiled):
+        rt.set_cmd_vel(Twist(linear_x=0.2, angular_z=0.3))
+        rt.spin_for(1.0)
+    assert profiled.world.robot_pose == plain.world.robot_pose
+    assert np.array_equal(profiled.latest_scan.ranges, plain.latest_scan.ranges)
+
+
+def test_profile_shares_cover_each_part_and_sum_to_about_the_step_time():
+    import time
+
+    from btnav.nav.runtime import profile_label
+
+    rt = make_runtime()
+    counter = rt.add(Counter(20.0, name="counter"))
+    listener = Listener()
+    rt.subscribe("scan", listener.on_scan)
+    rt.spin_for(0.5)  # warm
+    rt.profile = {}
+    t0 = time.perf_counter()
+    rt.spin_for(2.0)
+    wall = time.perf_counter() - t0
+    spent = rt.profile
+    lidar = f"Lidar/{rt.sensors[0].frame_id}"
+    assert {"physics", "odometry", lidar, "Counter/counter", "Listener/listener"} <= set(spent)
+    assert profile_label(counter) == "Counter/counter"
+    assert profile_label(listener.on_scan) == "Listener/listener"  # a subscriber: its owner
+    assert all(v >= 0.0 for v in spent.values())
+    total = sum(spent.values())
+    assert total <= wall
+    assert total >= 0.5 * wall  # the parts are most of a step; the rest is the loop
+    assert len(listener.scans) == 25 and len(counter.stamps) == 50

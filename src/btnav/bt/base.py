@@ -19,18 +19,57 @@ these bases make btnav's nodes behave as BT.CPP's do:
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Generator, Sequence
-from typing import Any, ClassVar
+from types import UnionType
+from typing import Any, ClassVar, Union, get_args, get_origin
 
 import py_trees
 from py_trees.behaviour import Behaviour
+from py_trees.blackboard import Blackboard
 from py_trees.common import Status
-from py_trees.ports import PortInformation, PortsMixin
+from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin
+from py_trees.ports_utils import is_instance_of_type
 
 TickGen = Generator[Behaviour, None, Status]
 
+_MISSING = object()
+_STATUSES = frozenset(Status)
+_INFO = py_trees.logging.Level.INFO
+#: Port defaults returned as they are (py_trees deep-copies a default; these need not be).
+_IMMUTABLE = frozenset({str, int, float, bool, bytes})
+
 #: Tolerance for comparing sim times (the clock counts integer nanoseconds).
 TIME_EPS = 1e-9
+
+
+def _plain_types(data_type: Any) -> tuple[type, ...] | None:
+    """The classes `isinstance` can check a port's type with, or None for other types
+    (generics such as `list[Pose2D]`), which py_trees' own check handles."""
+    if isinstance(data_type, type) and get_origin(data_type) is None:
+        return (data_type,)
+    if get_origin(data_type) in (Union, UnionType):
+        args = get_args(data_type)
+        if all(isinstance(a, type) and get_origin(a) is None for a in args):
+            return tuple(args)
+    return None
+
+
+class _PortSlot:
+    """One port of one node, resolved once: its blackboard storage key and type check."""
+
+    __slots__ = ("info", "key", "types")
+
+    def __init__(self, key: str, info: PortInformation) -> None:
+        self.key = key
+        self.info = info
+        self.types = _plain_types(info.data_type)
+
+    def type_ok(self, value: Any) -> bool:
+        types = self.types
+        if types is not None:
+            return isinstance(value, types)
+        return is_instance_of_type(value, self.info.data_type)
 
 
 def halt(node: Behaviour) -> None:
@@ -67,6 +106,75 @@ class _BtNode(PortsMixin):
     def port(self, name: str) -> Any:
         """The value of an input port (its declared default when unset)."""
         return self.get_input(name)
+
+    # -- ports: py_trees' get_input/_set_output, with the key resolved once -----------------
+    #
+    # py_trees resolves a port's blackboard key (namespace, registration, remapping) and
+    # checks its type generically on every read and write; a tree ticking at 100 Hz does
+    # that tens of thousands of times a minute. A node resolves each port once per
+    # blackboard client (setup_ports makes a new one) and reads the storage directly;
+    # the results, errors and type checks are py_trees' own. With the blackboard's
+    # activity stream on, py_trees' path runs so every access is still recorded.
+
+    def _port_slots(self, outputs: bool) -> dict[str, _PortSlot | None]:
+        client = self._blackboard_client
+        cache = self.__dict__.get("_btnav_ports")
+        if cache is None or cache[0] is not client:
+            cache = (client, {}, {})
+            self.__dict__["_btnav_ports"] = cache
+        return cache[2] if outputs else cache[1]
+
+    def _resolve_port(self, port_name: str, outputs: bool) -> _PortSlot | None:
+        """The port's slot, or None when py_trees' path must run (undeclared, unregistered,
+        a nested name, or an output the client may not write)."""
+        slots = self._port_slots(outputs)
+        try:
+            return slots[port_name]
+        except KeyError:
+            pass
+        slot = None
+        ports = self.output_ports() if outputs else self.input_ports()
+        client = self._blackboard_client
+        if port_name in ports and client is not None and "." not in port_name:
+            absolute = Blackboard.absolute_name(client.namespace, port_name)
+            access = client.write | client.exclusive if outputs else None
+            registered = (
+                absolute in access if access is not None else client.is_registered(port_name)
+            )
+            key = client.remappings.get(absolute) if registered else None
+            if key is not None:
+                slot = _PortSlot(key, ports[port_name])
+        slots[port_name] = slot
+        return slot
+
+    def get_input(self, port_name: str, default: Any = None) -> Any:
+        if Blackboard.activity_stream is None:
+            slot = self._resolve_port(port_name, False)
+            if slot is not None:
+                value = Blackboard.storage.get(slot.key, _MISSING)
+                if value is _MISSING:
+                    if default is not None:
+                        return default
+                    info = slot.info
+                    if info.has_default:
+                        dv = info.default_value
+                        return dv if type(dv) in _IMMUTABLE else copy.deepcopy(dv)
+                    raise NoDataAvailable(
+                        f"{self.name}: Input port '{port_name}' (mapped to "
+                        f"'{slot.key}') has no data available."
+                    )
+                if value is not None and slot.type_ok(value):
+                    return value
+        # Unset, None or the wrong type: py_trees' path (defaults, errors).
+        return super().get_input(port_name, default)
+
+    def _set_output(self, port_name: str, value: Any) -> None:
+        if Blackboard.activity_stream is None:
+            slot = self._resolve_port(port_name, True)
+            if slot is not None and slot.type_ok(value):
+                Blackboard.storage[slot.key] = value
+                return
+        super()._set_output(port_name, value)
 
     def now(self) -> float:
         """Sim time in seconds, from the clock given to the loader."""
@@ -115,7 +223,11 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
     def tick_child(self, child: Behaviour) -> TickGen:
         """Tick one child (yielding what py_trees' visitors expect); its new status."""
         self.current_child = child
-        yield from child.tick()
+        if type(child).tick is LeafNode.tick:  # a leaf: ticked here, yielded as it yields
+            child.tick_now()  # type: ignore[attr-defined]
+            yield child
+        else:
+            yield from child.tick()
         return child.status
 
     def halt_child(self, index: int) -> None:
@@ -175,8 +287,13 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
         yield  # pragma: no cover
 
     def tick_child(self) -> TickGen:
-        yield from self.decorated.tick()
-        return self.decorated.status
+        child = self.decorated
+        if type(child).tick is LeafNode.tick:  # as ControlNode.tick_child
+            child.tick_now()  # type: ignore[attr-defined]
+            yield child
+        else:
+            yield from child.tick()
+        return child.status
 
     def update(self) -> Status:  # unused: tick() does the work
         return self.status
@@ -189,6 +306,39 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
 class LeafNode(_BtNode, Behaviour):
     """A leaf (action or condition) with ports; subclasses write `update()`."""
+
+    # py_trees' Behaviour.tick and stop, step for step, except that their debug messages
+    # are only formatted when py_trees logs at DEBUG (leaves are most of a tree's ticks).
+
+    def tick(self) -> Generator[Behaviour, None, None]:
+        self.tick_now()
+        yield self
+
+    def tick_now(self) -> None:
+        """What `tick()` does before it yields: a parent ticking a leaf calls this and
+        yields the leaf itself (one generator less per leaf and tick)."""
+        if py_trees.logging.level < _INFO:
+            self.logger.debug(f"{self.__class__.__name__}.tick()")
+        if self.status != Status.RUNNING:
+            self.initialise()
+        new_status = self.update()
+        if new_status not in _STATUSES:
+            self.logger.error(
+                "A behaviour returned an invalid status, setting to INVALID "
+                f"[{new_status}][{self.name}]"
+            )
+            new_status = Status.INVALID
+        if new_status != Status.RUNNING:
+            self.stop(new_status)
+        self.status = new_status
+
+    def stop(self, new_status: Status) -> None:
+        if py_trees.logging.level < _INFO:
+            change = f"{self.status}->{new_status}" if self.status != new_status else new_status
+            self.logger.debug(f"{self.__class__.__name__}.stop({change})")
+        self.terminate(new_status)
+        self.status = new_status
+        self.iterator = self.tick()
 
     def update(self) -> Status:
         raise NotImplementedError

@@ -33,16 +33,34 @@ from ..plugins import register
 from .exceptions import InvalidPath
 
 _EPS_TRANS = 1e-4
+#: Segments of the first chunk `integrated_index` sums (then four times more each time).
+_CHUNK = 128
 
 
 def integrated_index(poses: NDArray[np.float64], start: int, distance: float) -> int:
     """Index of the first pose after `start` whose path distance from `start` exceeds `distance`
     (len(poses) when none does): the exclusive end of the window of that length."""
-    if start >= len(poses):
-        return len(poses)
-    seg = np.hypot(*np.diff(poses[start:, :2], axis=0).T)
-    beyond = np.flatnonzero(np.cumsum(seg) > distance)
-    return start + 1 + int(beyond[0]) if beyond.size else len(poses)
+    n = len(poses)
+    if start >= n:
+        return n
+    # The running length in growing chunks from `start` (a window is a short stretch of a
+    # long plan): the same sums, added in the same order, as one cumsum over the rest.
+    total = 0.0
+    i = start  # the chunk's first segment is poses[i] -> poses[i + 1]
+    size = _CHUNK
+    while i < n - 1:
+        j = min(i + size, n - 1)
+        d = poses[i + 1 : j + 1, :2] - poses[i:j, :2]  # np.diff, without its overhead
+        seg = np.hypot(d[:, 0], d[:, 1])
+        seg[0] += total  # the chunk continues the running sum: total + s_i, then + s_i+1 ...
+        along = np.cumsum(seg)
+        beyond = np.flatnonzero(along > distance)
+        if beyond.size:
+            return i + 1 + int(beyond[0])
+        total = float(along[-1])
+        i = j
+        size *= 4
+    return n
 
 
 def closest_index(

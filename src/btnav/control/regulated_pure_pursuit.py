@@ -212,7 +212,7 @@ class RegulatedPurePursuitController(Controller):
             linear, angular = self._rotate(angle_to_path, velocity)
         else:
             self.is_rotating_to_heading = False
-            cost = float(costmap.cost_at((pose.x, pose.y)))
+            cost = float(costmap.cost_at_point(pose.x, pose.y))
             linear = self._constrained_linear(curvature, cost, local, costmap) * sign
             angular = linear * curvature
 
@@ -280,7 +280,8 @@ class RegulatedPurePursuitController(Controller):
     ) -> bool:
         """Forward-simulate the command on the arc (vectorised) and look for lethal/inscribed cells."""
         p = self.params
-        if _in_collision(costmap, np.array([[pose.x, pose.y]]))[0]:
+        here = costmap.cost_at_point(pose.x, pose.y)
+        if here >= INSCRIBED_INFLATED_OBSTACLE and here != NO_INFORMATION:
             return True
         res = costmap.resolution
         if abs(linear) < 0.01 and abs(angular) > 0.01:
@@ -308,6 +309,8 @@ class RegulatedPurePursuitController(Controller):
         n = min(n, 10_000)
         if n == 0:
             return False
+        if n <= _SCALAR_STEPS:
+            return _arc_collides(costmap, pose, dt * linear, dt, angular, n, limit)
         k = np.arange(n)
         theta = pose.yaw + k * dt * angular  # heading before each step
         x = pose.x + np.cumsum(dt * linear * np.cos(theta))
@@ -318,6 +321,36 @@ class RegulatedPurePursuitController(Controller):
         if m == 0:
             return False
         return bool(_in_collision(costmap, np.stack([x[:m], y[:m]], axis=-1)).any())
+
+
+#: Up to this many forward-simulated steps, the arc is walked point by point.
+_SCALAR_STEPS = 64
+
+
+def _arc_collides(
+    costmap: Costmap2D,
+    pose: Pose2D,
+    step: float,
+    dt: float,
+    angular: float,
+    n: int,
+    limit: float,
+) -> bool:
+    """The vectorised check of `_collision_imminent` for a short arc, one point at a time
+    (the same arithmetic: headings, running sums, distances, cells)."""
+    x0, y0, yaw = pose.x, pose.y, pose.yaw
+    sum_x = sum_y = 0.0
+    for k in range(n):
+        theta = yaw + k * dt * angular  # heading before each step
+        sum_x += step * math.cos(theta)
+        sum_y += step * math.sin(theta)
+        x, y = x0 + sum_x, y0 + sum_y
+        if not np.hypot(x - x0, y - y0) <= limit:
+            return False  # the rest is beyond the carrot
+        cost = costmap.cost_at_point(x, y)
+        if cost >= INSCRIBED_INFLATED_OBSTACLE and cost != NO_INFORMATION:
+            return True
+    return False
 
 
 def _in_collision(costmap: Costmap2D, xy: NDArray[np.float64]) -> NDArray[np.bool_]:

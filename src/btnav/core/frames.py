@@ -34,6 +34,9 @@ class FrameTree:
     def __init__(self) -> None:
         self._edges: dict[str, StampedTransform] = {}  # child -> edge to its parent
         self._roots: set[str] = set()
+        # lookup's answers since the last change of any transform (a step looks the same
+        # pair up several times: the tree, the controller, the costmaps)
+        self._lookups: dict[tuple[str, str], Pose2D] = {}
 
     @classmethod
     def rep105(cls) -> FrameTree:
@@ -59,6 +62,7 @@ class FrameTree:
         if old is None and self._is_ancestor(child, parent):
             raise FrameError(f"'{parent}' -> '{child}' would close a loop in the frame tree")
         self._edges[child] = StampedTransform(parent, child, tf, stamp, static)
+        self._lookups.clear()
         self._roots.discard(child)
         if parent not in self._edges:
             self._roots.add(parent)
@@ -123,6 +127,9 @@ class FrameTree:
 
         Applied to points, it maps coordinates in `source` into `target`.
         """
+        found = self._lookups.get((target, source))
+        if found is not None:
+            return found
         self.require(target)
         self.require(source)
         root_t, target_in_root = self._to_root(target)
@@ -132,7 +139,9 @@ class FrameTree:
                 f"frames '{target}' and '{source}' are not connected "
                 f"(their trees have roots '{root_t}' and '{root_s}')"
             )
-        return target_in_root.inverse() @ source_in_root
+        found = target_in_root.inverse() @ source_in_root
+        self._lookups[(target, source)] = found
+        return found
 
     def stamp(self, child: str) -> float:
         return self.edge(child).stamp

@@ -20,10 +20,13 @@ TWO_PI = 2.0 * math.pi
 def normalize_angle(a: Any) -> Any:
     """Wrap angles to (-pi, pi]; works on floats and arrays alike."""
     if isinstance(a, np.ndarray):
+        in_range = (a > -np.pi) & (a <= np.pi)
+        if a.dtype == np.float64 and in_range.all():
+            return a.copy()  # what the general path gives back for angles already in range
         out = np.mod(a + np.pi, TWO_PI) - np.pi
         out = np.where(out <= -np.pi, out + TWO_PI, out)
         # Angles already in range come back untouched (the round trip costs an ulp).
-        return np.where((a > -np.pi) & (a <= np.pi), a, out)
+        return np.where(in_range, a, out)
     if -math.pi < a <= math.pi:
         return float(a)
     out = math.fmod(float(a) + math.pi, TWO_PI)

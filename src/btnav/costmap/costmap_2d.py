@@ -88,6 +88,15 @@ class Costmap2D:
         out[inside] = self.costs[m[..., 1][inside], m[..., 0][inside]]
         return out
 
+    def cost_at_point(self, x: float, y: float) -> int:
+        """`cost_at` for one world point, without arrays (the same cell arithmetic)."""
+        mx = math.floor((x - self.origin_x) / self.resolution)
+        my = math.floor((y - self.origin_y) / self.resolution)
+        ny, nx = self.costs.shape
+        if 0 <= mx < nx and 0 <= my < ny:
+            return int(self.costs[my, mx])
+        return NO_INFORMATION
+
     def copy(self) -> Costmap2D:
         return Costmap2D(
             self.costs.copy(),

@@ -66,29 +66,50 @@ def polygon_cells(
     if len(poly) == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     res = costmap.resolution
+    ox, oy = costmap.origin_x, costmap.origin_y
+    size_x, size_y = costmap.size_x, costmap.size_y
     # The outline, sampled finer than a cell.
     a, b = poly, np.roll(poly, -1, axis=0)
-    n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (0.25 * res)).astype(int), 1)
-    seg = np.repeat(np.arange(len(poly)), n + 1)
-    t = np.arange(seg.size) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)
-    t = t / np.repeat(n, n + 1)
-    outline = a[seg] + t[:, None] * (b - a)[seg]
+    ab = b - a
+    n = np.maximum(np.ceil(np.hypot(*ab.T) / (0.25 * res)).astype(int), 1)
+    seg, t = _outline_steps(n)
+    outline = a[seg] + t[:, None] * ab[seg]
     m, inside = costmap.world_to_map(outline)
     ys_out, xs_out = m[inside][:, 1], m[inside][:, 0]
-    # The inside: cell centres in the bounding box, even-odd rule.
-    (x0, y0), _ = costmap.world_to_map(poly.min(axis=0))
-    (x1, y1), _ = costmap.world_to_map(poly.max(axis=0))
-    x0, y0 = max(int(x0), 0), max(int(y0), 0)
-    x1, y1 = min(int(x1) + 1, costmap.size_x), min(int(y1) + 1, costmap.size_y)
+    # The inside: cell centres in the bounding box, even-odd rule. (The box's corner
+    # cells as world_to_map finds them, one point at a time.)
+    (min_x, min_y), (max_x, max_y) = poly.min(axis=0).tolist(), poly.max(axis=0).tolist()
+    x0 = max(math.floor((min_x - ox) / res), 0)
+    y0 = max(math.floor((min_y - oy) / res), 0)
+    x1 = min(math.floor((max_x - ox) / res) + 1, size_x)
+    y1 = min(math.floor((max_y - oy) / res) + 1, size_y)
     if x0 < x1 and y0 < y1:
         cx, cy = costmap.cell_centers(x0, y0, x1, y1)
-        px, py = np.broadcast_arrays(cx, cy)
-        inside_poly = np.zeros(px.shape, dtype=bool)
-        for (ax, ay), (bx, by) in zip(a, b, strict=True):  # loop over edges, not cells
-            crosses = (ay > py) != (by > py)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                xint = ax + (py - ay) * (bx - ax) / (by - ay)
-            inside_poly ^= crosses & (px < xint)
+        # Every edge against every cell centre at once: (edges, rows, cols).
+        ax, ay = a[:, 0, None, None], a[:, 1, None, None]
+        bx, by = b[:, 0, None, None], b[:, 1, None, None]
+        crosses = (ay > cy) != (by > cy)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xint = ax + (cy - ay) * (bx - ax) / (by - ay)
+        inside_poly = np.logical_xor.reduce(crosses & (cx < xint), axis=0)
         iy, ix = np.nonzero(inside_poly)
         return np.concatenate([ys_out, iy + y0]), np.concatenate([xs_out, ix + x0])
     return ys_out, xs_out
+
+
+_STEPS: dict[bytes, tuple[NDArray[np.int64], NDArray[np.float64]]] = {}
+
+
+def _outline_steps(n: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """For edges sampled in n[i] steps: each sample's edge and its fraction along it
+    (kept per step counts: a footprint's edges keep their lengths as the robot moves)."""
+    key = n.tobytes()
+    found = _STEPS.get(key)
+    if found is None:
+        seg = np.repeat(np.arange(len(n)), n + 1)
+        t = np.arange(seg.size) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)
+        found = (seg, t / np.repeat(n, n + 1))
+        if len(_STEPS) > 256:
+            _STEPS.clear()
+        _STEPS[key] = found
+    return found

@@ -62,6 +62,8 @@ class InflationLayer(Layer):
         self.params: InflationLayer.Params
         self.need_reinflation = True
         self._last_bounds = Bounds()
+        self._table: NDArray[np.uint8] = np.zeros(1, np.uint8)
+        self._table_key: tuple[int, float, float, float] | None = None
 
     @property
     def inscribed_radius(self) -> float:
@@ -102,6 +104,17 @@ class InflationLayer(Layer):
         grown = grown.expanded(self.params.inflation_radius)
         bounds.merge(grown)
 
+    def _cost_table(self, r: int, resolution: float) -> NDArray[np.uint8]:
+        """The cost at each squared cell distance 0 .. r*r (0 beyond: one more entry), as
+        `inflation_cost` gives it for the distance the distance transform computes."""
+        key = (r, resolution, self.inscribed_radius, self.params.cost_scaling_factor)
+        if self._table_key != key:
+            squared = np.arange(r * r + 2, dtype=np.float64)
+            table = inflation_cost(np.sqrt(squared) * resolution, self.inscribed_radius, key[3])
+            table[-1] = FREE_SPACE
+            self._table, self._table_key = table, key
+        return self._table
+
     def update_costs(self, master: Costmap2D, window: Window) -> None:
         if not self.enabled or window.empty:
             return
@@ -122,10 +135,12 @@ class InflationLayer(Layer):
         near = d <= r
         if not near.any():
             return
-        cost = np.zeros(d.shape, np.uint8)
-        cost[near] = inflation_cost(
-            d[near] * master.resolution, self.inscribed_radius, p.cost_scaling_factor
-        )
+        # The distances are sqrt(dx^2 + dy^2) in cells: the cost of each squared distance
+        # is worked out once (Nav2's cached_costs_), then looked up.
+        table = self._cost_table(r, master.resolution)
+        squared = np.rint(d * d)
+        np.minimum(squared, len(table) - 1, out=squared)
+        cost = table[squared.astype(np.intp)]
         old = master.costs[window.slices]
         unknown = old == NO_INFORMATION
         # Unknown cells take the inflated cost only when it is "inscribed" or worse,

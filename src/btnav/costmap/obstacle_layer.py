@@ -125,14 +125,60 @@ class Observation:
     ray_ends: NDArray[np.float64]  # (M, 2)
 
 
+_DIRECTIONS: dict[tuple[float, float, int], tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+
+
+def _beam_directions(
+    angle_min: float, angle_increment: float, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """cos and sin of a scan's beam angles (`LaserScan.angles`), computed once per layout:
+    every scan of a lidar has the same beams."""
+    key = (angle_min, angle_increment, n)
+    found = _DIRECTIONS.get(key)
+    if found is None:
+        a = angle_min + angle_increment * np.arange(n)
+        found = (np.cos(a), np.sin(a))
+        for v in found:
+            v.setflags(write=False)
+        if len(_DIRECTIONS) > 64:
+            _DIRECTIONS.clear()
+        _DIRECTIONS[key] = found
+    return found
+
+
+class _PendingObservation(Observation):
+    """The `scan_observation` of a scan as it arrived (placed with the frame tree then),
+    worked out when first read: a layer that updates less often than the lidar scans
+    keeps only the latest scan (no `observation_persistence`), so most are never read."""
+
+    _fields = ("origin", "marks", "ray_starts", "ray_ends")
+
+    def __init__(self, scan: LaserScan, sensor_pose: Pose2D, source: ObservationSource) -> None:
+        self.stamp = scan.stamp
+        self._pending: tuple[LaserScan, Pose2D, ObservationSource] | None = (
+            scan,
+            sensor_pose,
+            source,
+        )
+
+    def __getattr__(self, name: str) -> Any:
+        pending = self.__dict__.get("_pending")
+        if pending is None or name not in _PendingObservation._fields:
+            raise AttributeError(name)
+        obs = scan_observation(*pending, stamp=self.stamp)
+        for field_name in _PendingObservation._fields:
+            setattr(self, field_name, getattr(obs, field_name))
+        self._pending = None
+        return getattr(self, name)
+
+
 def scan_observation(
     scan: LaserScan, sensor_pose: Pose2D, source: ObservationSource, stamp: float | None = None
 ) -> Observation:
     """The marking points and clearing rays of a scan, in the frame `sensor_pose` is given in."""
     r = np.asarray(scan.ranges, dtype=float)
-    a = scan.angles
+    c, s = _beam_directions(scan.angle_min, scan.angle_increment, len(r))
     finite = np.isfinite(r) & (r >= scan.range_min) & (r <= scan.range_max)
-    c, s = np.cos(a), np.sin(a)
     mark = finite & (r < source.obstacle_max_range) & (r >= source.obstacle_min_range)
     rm = r[mark]
     marks = sensor_pose.transform_points(np.stack([rm * c[mark], rm * s[mark]], axis=-1))
@@ -185,25 +231,38 @@ def trace_cells(
     valid = starts_t <= t  # the start is still before the (clipped) end
     # Continuous cell coordinates, sampled at most one cell apart along the major axis
     # (so no cell on the line is skipped), then floored: a DDA over every beam at once.
+    # x and y are handled as flat arrays (repeats, not fancy indexing: fewer passes).
     f0 = (starts[valid] - lo) / res
     f1 = (ends[valid] - lo) / res
-    span = np.abs(f1 - f0).max(axis=1)
+    df = f1 - f0
+    span = np.abs(df).max(axis=1)
     n = np.maximum(
         np.ceil(span).astype(np.int64),
         np.abs(np.floor(f1) - np.floor(f0)).max(axis=1).astype(np.int64),
     )
-    total = int((n + 1).sum())
-    ray = np.repeat(np.arange(len(n)), n + 1)
-    k = np.arange(total) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)
-    frac = k / np.maximum(n[ray], 1)
-    cells = np.floor(f0[ray] + frac[:, None] * (f1 - f0)[ray]).astype(np.int64)
-    inside = (
-        (cells[:, 0] >= 0)
-        & (cells[:, 0] < costmap.size_x)
-        & (cells[:, 1] >= 0)
-        & (cells[:, 1] < costmap.size_y)
-    )
-    return cells[inside, 1], cells[inside, 0]
+    reps = n + 1
+    total = int(reps.sum())
+    k = np.arange(total) - np.repeat(np.cumsum(reps) - reps, reps)
+    frac = k / np.repeat(np.maximum(n, 1), reps)
+    fx = np.repeat(f0[:, 0], reps)
+    fx += frac * np.repeat(df[:, 0], reps)
+    fy = np.repeat(f0[:, 1], reps)
+    fy += frac * np.repeat(df[:, 1], reps)
+    np.floor(fx, out=fx)
+    np.floor(fy, out=fy)
+    inside = (fx >= 0) & (fx < costmap.size_x) & (fy >= 0) & (fy < costmap.size_y)
+    return fy[inside].astype(np.int64), fx[inside].astype(np.int64)
+
+
+def _set_cells(
+    costs: NDArray[np.uint8], ys: NDArray[np.int64], xs: NDArray[np.int64], value: int
+) -> None:
+    """`costs[ys, xs] = value`, through flat indices when the grid is contiguous (a scan
+    clears thousands of cells, often the same ones: 1D indexing is several times faster)."""
+    if costs.flags.c_contiguous:
+        costs.reshape(-1)[ys * costs.shape[1] + xs] = value
+    else:
+        costs[ys, xs] = value
 
 
 @register("costmap_layer", "nav2_costmap_2d::ObstacleLayer", aliases=("btnav/ObstacleLayer",))
@@ -246,7 +305,7 @@ class ObstacleLayer(CostmapLayer):
                 pose = frame_tree.lookup(target, frame)
             except FrameError as err:
                 raise err.located(key=f"{self.name}.{name}") from None
-            obs = scan_observation(scan, pose, cfg)
+            obs = _PendingObservation(scan, pose, cfg)
             buf = self.buffers.setdefault(name, [])
             buf.insert(0, obs)
             keep = cfg.observation_persistence
@@ -292,7 +351,7 @@ class ObstacleLayer(CostmapLayer):
             if np.any(obs.origin < lo) or np.any(obs.origin >= hi):
                 continue  # Nav2: a sensor origin off the map cannot raytrace
             ys, xs = trace_cells(grid, obs.origin, obs.ray_starts, obs.ray_ends)
-            grid.costs[ys, xs] = FREE_SPACE
+            _set_cells(grid.costs, ys, xs, FREE_SPACE)
             if len(ys):
                 bounds.touch_points(obs.ray_ends)
                 bounds.touch(float(obs.origin[0]), float(obs.origin[1]))

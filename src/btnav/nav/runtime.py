@@ -18,6 +18,12 @@ One `step()` is, in this fixed order:
    MONITOR (metrics, recorders). So a server sees this step's costmap, and a
    command a controller sends moves the robot in the next physics step.
 
+Profiling is opt-in: set `runtime.profile = {}` and each `step()` adds the wall seconds
+(`time.perf_counter`) of every part to it, keyed by `profile_label`: "physics",
+"odometry", a sensor as "Lidar/laser", a component as "CostmapServer/local_costmap",
+"ControllerServer/follow_path", ... (type, then name), and a scan subscriber under its
+owner's label. While `profile` is None (the default) a step does nothing extra.
+
 Rates are kept on the integer-nanosecond sim clock without drift: a component at
 `hz` first runs one period after it is added, then every period, so a 10 Hz lidar
 gives exactly 10 scans per sim second. A rate above `1 / physics_dt` runs once per
@@ -29,6 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from enum import IntEnum
+from time import perf_counter
 from typing import Any, Protocol, runtime_checkable
 
 from ..core.clock import SimClock
@@ -65,8 +72,19 @@ class Stage(IntEnum):
     MONITOR = 50
 
 
+def profile_label(thing: Any) -> str:
+    """The key a component (or a subscriber callback) is profiled under: its type's name,
+    then "/" and its `name` if it has one ("CostmapServer/local_costmap"). A scheduling
+    wrapper with a `server` (the controller server's ticker) is labelled as its server."""
+    owner = getattr(thing, "__self__", thing)  # a bound method: its object
+    owner = getattr(owner, "server", owner)
+    kind = type(owner).__name__
+    name = getattr(owner, "name", None)
+    return f"{kind}/{name}" if isinstance(name, str) and name else kind
+
+
 class _Scheduled:
-    __slots__ = ("component", "next_ns", "order", "period_ns", "stage")
+    __slots__ = ("component", "label", "next_ns", "order", "period_ns", "stage")
 
     def __init__(self, component: Any, stage: int, order: int, period_ns: int, now_ns: int):
         self.component = component
@@ -74,6 +92,7 @@ class _Scheduled:
         self.order = order
         self.period_ns = period_ns
         self.next_ns = now_ns + period_ns
+        self.label: str | None = None
 
     def due(self, now_ns: int) -> bool:
         if now_ns < self.next_ns:
@@ -133,6 +152,8 @@ class Runtime:
         self._subscribers: dict[str, list[Callable[[Any], None]]] = {}
         self.action_servers = ActionServers()
         self.localizer: Any = None
+        #: Wall seconds per part of the step (see the module doc); None: not profiling.
+        self.profile: dict[str, float] | None = None
 
         now_ns = self.clock.now_ns
         self._odometry_slot = _Scheduled(
@@ -217,14 +238,29 @@ class Runtime:
         LaserScan), or a sensor's frame id ("laser")."""
         self._subscribers.setdefault(topic, []).append(callback)
 
-    def _publish(self, topic: str, msg: Any) -> None:
+    def _publish(self, topic: str, msg: Any, spent: dict[str, float] | None = None) -> None:
         self.latest[topic] = msg
+        if spent is not None:
+            self._publish_profiled(topic, msg, spent)
+            return
         for cb in self._subscribers.get(topic, ()):
             cb(msg)
         if isinstance(msg, LaserScan):
             self.latest_scan = msg
             for cb in self._subscribers.get("scan", ()):
                 cb(msg)
+
+    def _publish_profiled(self, topic: str, msg: Any, spent: dict[str, float]) -> None:
+        """`_publish`, each subscriber's time going to its owner (a costmap's scan intake)."""
+        callbacks = list(self._subscribers.get(topic, ()))
+        if isinstance(msg, LaserScan):
+            self.latest_scan = msg
+            callbacks += self._subscribers.get("scan", ())
+        for cb in callbacks:
+            t0 = perf_counter()
+            cb(msg)
+            label = profile_label(cb)
+            spent[label] = spent.get(label, 0.0) + (perf_counter() - t0)
 
     def set_cmd_vel(self, cmd: Twist) -> None:
         """The velocity command the base follows from the next physics step on."""
@@ -243,6 +279,8 @@ class Runtime:
 
     def step(self) -> float:
         """One physics step, then odometry, sensors and due components (see the module doc)."""
+        if self.profile is not None:
+            return self._step_profiled(self.profile)
         self.world.step(self.physics_dt)
         self.clock.advance(self.physics_dt)
         self.step_count += 1
@@ -259,8 +297,45 @@ class Runtime:
                 sensor = slot.component
                 self._publish(sensor.frame_id, sensor.measure(now))
         for slot in list(self._components):
-            if slot.due(now_ns):
+            if now_ns >= slot.next_ns and slot.due(now_ns):  # (most are not due: no call)
                 slot.component.update(now)
+        return now
+
+    def _step_profiled(self, spent: dict[str, float]) -> float:
+        """`step()` adding each part's wall seconds to `spent` (the same work, in the same
+        order; the clocks read between parts cost a little)."""
+        t0 = perf_counter()
+        self.world.step(self.physics_dt)
+        self.clock.advance(self.physics_dt)
+        self.step_count += 1
+        now_ns = self.clock.now_ns
+        now = self.clock.now
+        t1 = perf_counter()
+        spent["physics"] = spent.get("physics", 0.0) + (t1 - t0)
+
+        if self._odometry_slot.due(now_ns):
+            t0 = perf_counter()
+            odom = self.odometry.update(now)
+            self.latest_odom = odom
+            self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=now)
+            spent["odometry"] = spent.get("odometry", 0.0) + (perf_counter() - t0)
+            self._publish("odom", odom, spent)
+        for slot in self._sensor_slots:
+            if slot.due(now_ns):
+                sensor = slot.component
+                if slot.label is None:
+                    slot.label = f"{type(sensor).__name__}/{sensor.frame_id}"
+                t0 = perf_counter()
+                msg = sensor.measure(now)
+                spent[slot.label] = spent.get(slot.label, 0.0) + (perf_counter() - t0)
+                self._publish(sensor.frame_id, msg, spent)
+        for slot in list(self._components):
+            if slot.due(now_ns):
+                if slot.label is None:
+                    slot.label = profile_label(slot.component)
+                t0 = perf_counter()
+                slot.component.update(now)
+                spent[slot.label] = spent.get(slot.label, 0.0) + (perf_counter() - t0)
         return now
 
     def spin_for(self, seconds: float) -> float:

@@ -74,6 +74,8 @@ def _pose(value: Any) -> Any:
 
 def blackboard_value(key: str, default: Any = None) -> Any:
     """The tree's blackboard entry `key` (py_trees' root namespace), or `default`."""
+    if "." not in key and "/" not in key:  # a plain key: the storage itself (fed each tick)
+        return Blackboard.storage.get("/" + key, default)
     try:
         return Blackboard.get("/" + key)
     except KeyError:
@@ -102,6 +104,8 @@ class Navigator(ActionServer[Any]):
         self._path: Path | None = None
         self._xy: Any = None
         self._seg: Any = None  # the segment lengths of `_path`
+        self._window_end: dict[int, int] = {}  # of `_path`, by closest pose
+        self._length_from: dict[int, float] = {}  # of `_path`, by closest pose
         self.ticks = 0
         self._cancel_deadline: float | None = None
 
@@ -240,17 +244,27 @@ class Navigator(ActionServer[Any]):
             xy = path.poses[:, :2]
             self._xy = xy
             self._seg = np.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+            self._window_end = {}
+            self._length_from = {}
         xy, seg = self._xy, self._seg
         # Nav2: the closest pose within search_window (along the path) of the last closest
-        window_end = self._closest + 1
-        if len(seg):
-            along = np.cumsum(seg[self._closest :])
-            window_end = self._closest + 1 + int(np.searchsorted(along, self.search_window))
-        window = xy[self._closest : min(window_end + 1, len(xy))]
+        # (the window and the length left depend only on the closest pose: kept per index)
+        start = self._closest
+        window_end = self._window_end.get(start)
+        if window_end is None:
+            window_end = start + 1
+            if len(seg):
+                along = np.cumsum(seg[start:])
+                window_end = start + 1 + int(np.searchsorted(along, self.search_window))
+            self._window_end[start] = window_end
+        window = xy[start : min(window_end + 1, len(xy))]
         d = np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
-        self._closest += int(np.argmin(d))
+        self._closest = closest = start + int(np.argmin(d))
         # nav2_util's calculate_path_length(path, closest_pose_idx)
-        return float(seg[self._closest :].sum())
+        remaining = self._length_from.get(closest)
+        if remaining is None:
+            remaining = self._length_from[closest] = float(seg[closest:].sum())
+        return remaining
 
     @property
     def search_window(self) -> float:

@@ -86,6 +86,8 @@ class GridGraph:
         np.clip(cols, 0, n - 1, out=cols)  # off-grid: any valid cell, the weight is inf
         self.indices = cols.reshape(-1)
         self.indptr = np.arange(0, _K * n + 1, _K, dtype=np.int32)
+        #: Doublings of the detour allowance the last search from this graph needed.
+        self.doublings = 0
         self._cache_key: bytes | None = None
         self._cache: csr_matrix | None = None
 
@@ -159,6 +161,33 @@ def _search(graph: csr_matrix, source: int, limit: float = np.inf) -> NDArray[np
     return dijkstra(graph, directed=True, indices=source, limit=limit)  # type: ignore[no-any-return]
 
 
+#: At most this many doublings of the detour allowance are searched ahead.
+_MAX_AHEAD = 3
+
+
+class _BoundedSearch:
+    """`_search(csr, source, limit)` for a growing limit, from as few searches as can be.
+
+    Dijkstra with a limit keeps exactly the distances <= limit (scipy relaxes an edge
+    only to a value <= limit, and a shorter search never changes the distances it
+    keeps), so cutting a longer search at `limit` gives the very same array."""
+
+    def __init__(self, csr: csr_matrix, source: int) -> None:
+        self.csr, self.source = csr, source
+        self.searched = -math.inf
+        self.dist: NDArray[np.float64] | None = None
+
+    def up_to(self, limit: float, reach: float) -> NDArray[np.float64]:
+        """The distances up to `limit` (inf beyond); a new search goes on to `reach`."""
+        if self.dist is None or limit > self.searched:
+            self.searched = max(limit, reach)
+            self.dist = _search(self.csr, self.source, limit=self.searched)
+        dist = self.dist
+        if limit >= self.searched:
+            return dist.copy()
+        return np.where(dist <= limit, dist, np.inf)
+
+
 #: The first search allows paths this much longer (relative) than the straight line
 #: before it searches again with twice the allowance.
 DETOUR = 0.15
@@ -197,17 +226,25 @@ def compute_potential(
         csr = graph.cached_graph(costarr)
         base = straight
     slack = DETOUR * straight + GOAL_BAND
+    search = _BoundedSearch(csr, src)
+    # The searches below are cut from one longer search where they can be: as far as the
+    # bound the last plan needed (most replans need as many doublings as the one before).
+    ahead = base + slack * 2.0**graph.doublings
+    doublings = 0
     while True:
         _check(cancel_checker)
         bound = base + slack
-        dist = _search(csr, src, limit=bound)
+        dist = search.up_to(bound, max(bound, ahead) + GOAL_BAND)
         reached = np.isfinite(dist)
         if reached[dst] or dist[reached].max() + max_step < bound:
             break  # found, or the reachable region is exhausted below the bound
         slack *= 2.0
+        doublings += 1
+    graph.doublings = min(doublings, _MAX_AHEAD)
     if reached[dst] and dist[dst] + GOAL_BAND > bound:
         # a band of a few cells beyond the goal, for the gradient descent around it
-        dist = _search(csr, src, limit=dist[dst] + GOAL_BAND)
+        limit = dist[dst] + GOAL_BAND
+        dist = search.up_to(limit, limit + GOAL_BAND)
     if h is not None:
         dist = dist - h.reshape(-1) + h.flat[src]
     dist[~np.isfinite(dist)] = POT_HIGH

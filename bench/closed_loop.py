@@ -1,0 +1,209 @@
+"""The real-time factor of the whole closed loop: the office tour with the default stack.
+
+    python bench/closed_loop.py [--runs 3] [--only mppi|rpp] [--profile]
+
+The office tour (the demo mission): worlds/small_office.yaml, Nav2's own
+params/nav2_params.yaml, maps/small_office.yaml, ground-truth localisation, seed 0,
+bt_navigator's default tree, FollowWaypoints through four poses. Everything runs:
+physics at 100 Hz, odometry at 50 Hz, a 360-beam lidar at 10 Hz, the local costmap at
+5 Hz and the global one at 1 Hz, NavFn, the controller at 20 Hz and the tree ticking
+every bt_loop_duration (10 ms). Gazebo + Nav2 run this at 1x.
+
+- MPPI (Nav2's FollowPath section as it is: 2000 rollouts x 56 steps): target 5x.
+- Regulated Pure Pursuit (Nav2's documented section, carried below): target 100x.
+
+For each: success, sim and wall time, the real-time factor (best of `--runs`) and its
+ratio to the target, collisions, and the share of wall time per component, from one
+more run with the runtime's profiling hook on (`runtime.profile = {}`): physics,
+odometry, lidar, local and global costmap (scan intake included), planner (and
+smoother), controller, behaviours, tree (bt_navigator and waypoint follower) and
+other (localiser, scheduler, the loop). numpy runs single-threaded: one core.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+from btnav.navigators import Navigator  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[1]
+WORLD = REPO / "worlds" / "small_office.yaml"
+PARAMS = REPO / "params" / "nav2_params.yaml"
+MAP = REPO / "maps" / "small_office.yaml"
+TOUR = [(3.0, 2.0, 1.57), (6.0, 3.0, 0.0), (9.0, 1.5, 0.0), (2.5, 6.5, 3.14)]
+TIMEOUT = 600.0
+TARGETS = {"mppi": 5.0, "rpp": 100.0}
+
+#: Nav2's documented Regulated Pure Pursuit section (docs.nav2.org), as the tests use it.
+RPP = {
+    "plugin": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
+    "desired_linear_vel": 0.5,
+    "lookahead_dist": 0.6,
+    "min_lookahead_dist": 0.3,
+    "max_lookahead_dist": 0.9,
+    "lookahead_time": 1.5,
+    "rotate_to_heading_angular_vel": 1.8,
+    "transform_tolerance": 0.1,
+    "use_velocity_scaled_lookahead_dist": False,
+    "min_approach_linear_velocity": 0.05,
+    "approach_velocity_scaling_dist": 0.6,
+    "use_collision_detection": True,
+    "max_allowed_time_to_collision_up_to_carrot": 1.0,
+    "use_regulated_linear_velocity_scaling": True,
+    "use_fixed_curvature_lookahead": False,
+    "curvature_lookahead_dist": 0.25,
+    "use_cost_regulated_linear_velocity_scaling": False,
+    "regulated_linear_scaling_min_radius": 0.9,
+    "regulated_linear_scaling_min_speed": 0.25,
+    "use_rotate_to_heading": True,
+    "allow_reversing": False,
+    "rotate_to_heading_min_angle": 0.785,
+    "max_angular_accel": 3.2,
+    "max_robot_pose_search_dist": 10.0,
+}
+
+#: The shares printed, in this order; a profile label goes to the first whose test holds.
+COMPONENTS = [
+    ("physics", lambda k: k == "physics"),
+    ("odometry", lambda k: k == "odometry"),
+    ("lidar", lambda k: k.startswith(("Lidar", "Sensor"))),
+    ("local costmap", lambda k: k == "CostmapServer/local_costmap"),
+    ("global costmap", lambda k: k == "CostmapServer/global_costmap"),
+    ("planner", lambda k: k.startswith(("PlannerServer", "SmootherServer"))),
+    ("controller", lambda k: k.startswith("ControllerServer")),
+    ("behaviours", lambda k: k.startswith("BehaviorServer")),
+    ("tree", lambda k: k.startswith(("Navigate", "WaypointFollower"))),
+]
+
+
+def params_file(controller: str, tmp: Path) -> Path:
+    """Nav2's params for `controller`: the file itself, or a copy with the RPP section."""
+    if controller == "mppi":
+        return PARAMS
+    doc = yaml.safe_load(PARAMS.read_text())
+    doc["controller_server"]["ros__parameters"]["FollowPath"] = dict(RPP)
+    out = tmp / f"nav2_params_{controller}.yaml"
+    out.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return out
+
+
+@dataclass
+class Tour:
+    outcome: str
+    sim: float
+    wall: float
+    collisions: int
+    profile: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def rtf(self) -> float:
+        return self.sim / self.wall
+
+
+def run_tour(params: Path, *, profile: bool = False) -> Tour:
+    """The tour, from the bring-up (not timed) to the waypoint follower's result."""
+    nav = Navigator.from_files(WORLD, params, MAP, seed=0)
+    # Nav2's bt_navigator loads its default tree when it is configured, before any goal:
+    # so does the bring-up here (outside the timing, as the rest of the bring-up is).
+    nav.bt_navigator.navigators["navigate_to_pose"].load()
+    if profile:
+        nav.runtime.profile = {}
+    t0, w0 = nav.now, time.perf_counter()
+    nav.follow_waypoints(TOUR)
+    result = nav.wait_until_done(TIMEOUT)
+    wall = time.perf_counter() - w0
+    outcome = "timed out" if result is None else str(result.outcome)
+    spent = dict(nav.runtime.profile or {})
+    return Tour(outcome, nav.now - t0, wall, nav.world.collisions, spent)
+
+
+def shares(tour: Tour) -> list[tuple[str, float]]:
+    """Wall seconds per component of a profiled tour; "other" is what no component took."""
+    out = {name: 0.0 for name, _ in COMPONENTS}
+    rest = 0.0
+    for label, seconds in tour.profile.items():
+        for name, test in COMPONENTS:
+            if test(label):
+                out[name] += seconds
+                break
+        else:
+            rest += seconds
+    out["other"] = max(0.0, tour.wall - sum(out.values()))
+    return list(out.items())
+
+
+def bench(controller: str, runs: int, tmp: Path) -> float:
+    params = params_file(controller, tmp)
+    target = TARGETS[controller]
+    best: Tour | None = None
+    for _ in range(runs):
+        tour = run_tour(params)
+        if best is None or tour.rtf > best.rtf:
+            best = tour
+    assert best is not None
+    prof = run_tour(params, profile=True)
+    ratio = best.rtf / target
+    print(f"{controller.upper()}: the office tour, {len(TOUR)} waypoints")
+    print(
+        f"  result {best.outcome}, sim {best.sim:.1f} s, wall {best.wall:.2f} s (best of {runs}),"
+        f" collisions {best.collisions}"
+    )
+    print(
+        f"  real-time factor {best.rtf:8.1f} x   target {target:5.0f} x   ratio {ratio:5.2f}"
+        f" {'ok' if ratio >= 1.0 else 'BELOW TARGET'}"
+    )
+    print(
+        f"  share of wall time (a profiled run: wall {prof.wall:.2f} s,"
+        f" {1e3 * prof.wall / prof.sim:.2f} ms per sim s; the target's budget is"
+        f" {1e3 / target:.2f} ms):"
+    )
+    for name, seconds in shares(prof):
+        print(
+            f"    {name:<15s} {100 * seconds / prof.wall:5.1f} %"
+            f"   {1e3 * seconds / prof.sim:7.3f} ms per sim s"
+        )
+    return ratio
+
+
+def profile_tour(controller: str, tmp: Path) -> None:
+    from pyinstrument import Profiler
+
+    params = params_file(controller, tmp)
+    with Profiler(interval=0.0005) as prof:
+        run_tour(params)
+    prof.print(show_all=False)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=3, help="timed runs per controller (best counts)")
+    ap.add_argument("--only", choices=sorted(TARGETS), help="one controller only")
+    ap.add_argument("--profile", action="store_true", help="profile one tour with pyinstrument")
+    args = ap.parse_args(argv)
+    controllers = [args.only] if args.only else ["mppi", "rpp"]
+    print(f"btnav closed loop, one core (numpy {np.__version__}, Python {sys.version.split()[0]})")
+    with tempfile.TemporaryDirectory() as tmp:
+        if args.profile:
+            for c in controllers:
+                profile_tour(c, Path(tmp))
+            return 0
+        for c in controllers:
+            bench(c, max(1, args.runs), Path(tmp))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
