@@ -28,16 +28,22 @@ from typing import Any
 import numpy as np
 import py_trees
 from py_trees.common import Status
+from pydantic import Field
 
 from ..bt import load_tree
 from ..bt.bundled import find_tree
 from ..bt.nav2_context import RECOVERIES_KEY
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
+from ..core.errors import PluginError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
+from ..core.suggest import best_match
 from ..nav.actions import ActionServer, GoalHandle
 from ..nav.runtime import Runtime, Stage
+from ..nav.server_plugins import make_plugin
 from ..params.paramsfile import ParamsFile, ServerParams
+from ..params.schema import ParamsModel, Why, ignored
+from ..plugins import names, register
 
 Blackboard = py_trees.blackboard.Blackboard
 
@@ -86,17 +92,36 @@ def _blackboard_set(key: str, value: Any) -> None:
     Blackboard.set("/" + key, value)
 
 
+class NavigatorParams(ParamsModel):
+    """A navigator's own section of bt_navigator's params (`navigate_to_pose:` ...)."""
+
+    search_window: float = Field(
+        2.0, gt=0.0, description="m along the path searched for the pose closest to the robot"
+    )
+    enable_groot_monitoring: bool = ignored(False, Why.GROOT)
+    groot_server_port: int = ignored(1667, Why.GROOT)
+
+
 class Navigator(ActionServer[Any]):
-    """One of bt_navigator's navigators: an action server that runs a tree per goal."""
+    """One of bt_navigator's navigators: an action server that runs a tree per goal.
+
+    A `navigator` plugin, built as `cls(name, params)` and then `configure(bt_navigator)`
+    (Nav2's `on_configure`), which gives it the runtime, the loop rate and its default tree.
+    """
 
     stage = Stage.NAVIGATOR
+    Params = NavigatorParams
+    #: The action this navigator serves, and the bt_navigator key of its default tree.
+    action_name = "NavigateToPose"
+    default_tree_key = "default_nav_to_pose_bt_xml"
     goal_type: type = NavigateToPoseGoal
     feedback_type: type = NavigateToPoseFeedback
 
-    def __init__(self, action: str, name: str, bt: BtNavigator, default_tree: str) -> None:
-        super().__init__(action, name, rate=1000.0 / bt.params.bt_loop_duration)
-        self.bt = bt
-        self.default_tree = default_tree
+    def __init__(self, name: str, params: NavigatorParams | None = None) -> None:
+        super().__init__(self.action_name, name)
+        self.params = params if params is not None else self.Params()
+        self.bt: Any = None
+        self.default_tree = ""
         self.tree_file: str | None = None
         self.root: Any = None
         self.start_time = 0.0
@@ -108,6 +133,12 @@ class Navigator(ActionServer[Any]):
         self._length_from: dict[int, float] = {}  # of `_path`, by closest pose
         self.ticks = 0
         self._cancel_deadline: float | None = None
+
+    def configure(self, bt: BtNavigator) -> None:
+        """Join `bt` (bt_navigator): its loop rate, and its default tree for this action."""
+        self.bt = bt
+        self.rate = 1000.0 / bt.params.bt_loop_duration
+        self.default_tree = getattr(bt.params, self.default_tree_key)
 
     # -- the tree -------------------------------------------------------------------------
 
@@ -268,19 +299,28 @@ class Navigator(ActionServer[Any]):
 
     @property
     def search_window(self) -> float:
-        section = self.bt.navigator_sections.get(self.name)
-        doc = getattr(section, "params", None)
-        value = getattr(doc, "search_window", None)
-        return float(value) if value is not None else 2.0
+        return float(self.params.search_window)
 
 
+@register(
+    "navigator",
+    "btnav/NavigateToPoseNavigator",
+    aliases=["nav2_bt_navigator::NavigateToPoseNavigator"],
+)
 class NavigateToPoseNavigator(Navigator):
-    """nav2_bt_navigator::NavigateToPoseNavigator."""
+    """nav2_bt_navigator::NavigateToPoseNavigator: `goal` on the blackboard."""
 
 
+@register(
+    "navigator",
+    "btnav/NavigateThroughPosesNavigator",
+    aliases=["nav2_bt_navigator::NavigateThroughPosesNavigator"],
+)
 class NavigateThroughPosesNavigator(Navigator):
     """nav2_bt_navigator::NavigateThroughPosesNavigator: `goals` on the blackboard."""
 
+    action_name = "NavigateThroughPoses"
+    default_tree_key = "default_nav_through_poses_bt_xml"
     goal_type = NavigateThroughPosesGoal
 
     def validate_goal(self, goal: Any) -> str | None:
@@ -316,7 +356,6 @@ class BtNavigator:
         self.runtime = runtime
         self.stack = stack
         self.base_dir = base_dir
-        self.navigator_sections = dict(server.plugins)
         self.context = {
             "runtime": runtime,
             "stack": stack,
@@ -327,19 +366,17 @@ class BtNavigator:
         #: Called as `listener(navigator, now)` after every tick and halt of a tree (the
         #: mission's bt_log reads node statuses there, as Groot's publisher does).
         self.tick_listeners: list[Callable[[Navigator, float], None]] = []
-        names = list(self.params.navigators)
-        for name in names:
-            section = self.navigator_sections.get(name)
-            kind = section.short_type if section is not None else name
-            if "ThroughPoses" in kind or name == "navigate_through_poses":
-                nav: Navigator = NavigateThroughPosesNavigator(
-                    "NavigateThroughPoses", name, self, self.params.default_nav_through_poses_bt_xml
+        for section in server.plugins_of("navigator"):
+            if section.cls is None:
+                raise PluginError(
+                    f"navigator '{section.name}' is a {section.type}, which btnav does not have",
+                    line=section.line,
+                    key=section.key,
+                    suggestion=best_match(section.type, names("navigator", aliases=True)),
                 )
-            else:
-                nav = NavigateToPoseNavigator(
-                    "NavigateToPose", name, self, self.params.default_nav_to_pose_bt_xml
-                )
-            self.navigators[name] = runtime.add(nav)
+            nav: Navigator = make_plugin(section)
+            nav.configure(self)
+            self.navigators[section.name] = runtime.add(nav)
 
     def notify(self, navigator: Navigator, now: float) -> None:
         for listener in self.tick_listeners:
@@ -367,11 +404,7 @@ class BtNavigator:
         self.server_params = params
         self.params = params.model
         for nav in self.navigators.values():
-            nav.rate = 1000.0 / self.params.bt_loop_duration
-            if isinstance(nav, NavigateThroughPosesNavigator):
-                nav.default_tree = self.params.default_nav_through_poses_bt_xml
-            else:
-                nav.default_tree = self.params.default_nav_to_pose_bt_xml
+            nav.configure(self)
 
 
 __all__ = [
