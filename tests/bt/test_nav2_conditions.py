@@ -12,7 +12,7 @@ from btnav.bt import load_tree
 from btnav.core.clock import SimClock
 from btnav.core.errors import FrameError
 from btnav.core.geometry import Pose2D
-from btnav.core.messages import Path, PoseStamped
+from btnav.core.messages import Path, PoseStamped, TrackingFeedback
 
 from .fakes import set_bb
 
@@ -216,3 +216,26 @@ def test_are_poses_near():
     assert tick() == S
     set_bb("b", Pose2D(0.4, 0.4, 0.0))
     assert tick() == F
+
+
+def feedback(error: float, heading: float = 0.0) -> TrackingFeedback:
+    return TrackingFeedback(0.0, error, heading, 0, Pose2D(), 1.0, 0.3, 1.0)
+
+
+def test_is_within_path_tracking_bounds_reads_the_controllers_feedback():
+    tick = ticker(
+        '<IsWithinPathTrackingBounds max_error_left="0.2" max_error_right="-0.1" '
+        'max_error_heading="1.0" tracking_feedback="{tracking_feedback}"/>'
+    )
+    assert tick() == S  # no feedback yet
+    for error, heading, expected in [
+        (0.15, 0.0, S),  # left of the path, within 0.2
+        (0.25, 0.0, F),
+        (-0.05, 0.0, S),  # right, within |-0.1|
+        (-0.15, 0.0, F),
+        (0.0, -1.2, F),  # heading off by more than 1 rad
+    ]:
+        set_bb("tracking_feedback", feedback(error, heading))
+        assert tick() == expected, (error, heading)
+    set_bb("tracking_feedback", {})  # what FollowPath writes when it ends
+    assert tick() == S

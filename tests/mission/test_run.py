@@ -170,3 +170,30 @@ def test_navigate_through_poses_passes_each_pose_in_one_goal(tmp_path):
     log = bt_log(out)
     assert {e["navigator"] for e in log} == {"navigate_through_poses"}
     assert any(e["node_name"].endswith("ComputePathThroughPoses") for e in log)
+
+
+def test_nav2s_bounds_check_tree_runs_and_stops_a_robot_off_its_path(tmp_path, nav2_dir):
+    xml = (nav2_dir / "behavior_trees" / "navigate_to_pose_w_bounds_check.xml").read_text()
+    ok = write_mission(
+        tmp_path,
+        "bounds",
+        tree=str(nav2_dir / "behavior_trees" / "navigate_to_pose_w_bounds_check.xml"),
+        task={"navigate_to_pose": [3.0, 2.0, 1.57]},
+    )
+    assert run_mission(Mission.load(ok), tmp_path / "ok").succeeded  # within 0.2 m all along
+    tight = tmp_path / "tight.xml"
+    tight.write_text(
+        xml.replace(
+            'max_error_left="0.2" max_error_right="0.2"',
+            'max_error_left="0.002" max_error_right="0.002"',
+        )
+    )
+    path = write_mission(
+        tmp_path, "tight", tree=str(tight), task={"navigate_to_pose": [3.0, 2.0, 1.57]}
+    )
+    report = run_mission(Mission.load(path), tmp_path / "tight")
+    assert report.status == "failed" and report.sim_time < 5.0
+    log = bt_log(tmp_path / "tight")
+    assert any(
+        e["type"] == "IsWithinPathTrackingBounds" and e["current_status"] == "FAILURE" for e in log
+    )

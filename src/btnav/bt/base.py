@@ -20,7 +20,7 @@ these bases make btnav's nodes behave as BT.CPP's do:
 from __future__ import annotations
 
 import copy
-from collections.abc import Generator, Sequence
+from collections.abc import Callable, Generator, Sequence
 from types import UnionType
 from typing import Any, ClassVar, Union, get_args, get_origin
 
@@ -97,6 +97,21 @@ class _BtNode(PortsMixin):
 
     skipped: bool = False
     clock: Any = None
+    #: Called as `status_listener(node, old, new)` on every change of this node's status,
+    #: even one undone within the same tick (a tick log sets it; None: nobody listens).
+    status_listener: Callable[[Any, Status, Status], None] | None = None
+
+    @property
+    def status(self) -> Status:
+        return self.__dict__.get("_status", Status.INVALID)
+
+    @status.setter
+    def status(self, new: Status) -> None:
+        d = self.__dict__
+        old = d.get("_status", Status.INVALID)
+        d["_status"] = new
+        if new is not old and self.status_listener is not None:
+            self.status_listener(self, old, new)
 
     def __init_subclass__(cls, *, register: bool = False, **kwargs: Any) -> None:
         # btnav's registry (the bt_node plugin kind) is the one that names node types;

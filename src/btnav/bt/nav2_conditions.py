@@ -436,3 +436,28 @@ class IsStuck(Nav2Leaf):
 
     def update(self) -> Status:
         return _status(self.current_accel < self.BRAKE_ACCEL_LIMIT)
+
+
+@register("bt_node", "IsWithinPathTrackingBounds")
+class IsWithinPathTrackingBounds(Nav2Leaf):
+    """FAILURE when the controller's `tracking_feedback` puts the robot farther than
+    `max_error_left`/`max_error_right` beside its path or `max_error_heading` off its
+    direction; SUCCESS otherwise, and while there is no feedback yet. Negative bounds
+    count as their absolute value, as in Nav2."""
+
+    INPUT_PORTS: ClassVar = {
+        "max_error_left": _in(float, "Largest tracking error (m) left of the path", 0.5),
+        "max_error_right": _in(float, "Largest tracking error (m) right of the path", 0.5),
+        "max_error_heading": _in(float, "Largest heading error (rad)", 3.14),
+        "tracking_feedback": _in(object, "The controller server's tracking feedback"),
+    }
+    OUTPUT_PORTS: ClassVar = {}
+
+    def update(self) -> Status:
+        feedback = self.optional("tracking_feedback")
+        error = getattr(feedback, "position_tracking_error", None)
+        if error is None:
+            return S
+        bound = self.port("max_error_left") if error >= 0.0 else self.port("max_error_right")
+        heading = abs(feedback.heading_tracking_error)
+        return _status(abs(error) <= abs(bound) and heading <= abs(self.port("max_error_heading")))

@@ -103,3 +103,23 @@ class Path:
             return 0.0
         d = self.poses[1:, :2] - self.poses[:-1, :2]  # np.diff, without its overhead
         return float(np.hypot(d[:, 0], d[:, 1]).sum())
+
+
+@dataclass
+class TrackingFeedback:
+    """nav2_msgs/TrackingFeedback: how well the controller follows its path, each cycle.
+
+    `position_tracking_error` is the signed distance from the path (positive: the robot is
+    left of it), `heading_tracking_error` the robot's yaw minus the path's there, both at
+    the path segment closest to the robot (`current_path_index` is its first pose).
+    """
+
+    stamp: float
+    position_tracking_error: float
+    heading_tracking_error: float
+    current_path_index: int
+    robot_pose: Pose2D
+    distance_to_goal: float
+    speed: float
+    remaining_path_length: float
+    frame_id: str = "map"

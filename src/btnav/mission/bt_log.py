@@ -4,13 +4,16 @@ Each line is a nav2_msgs/BehaviorTreeStatusChange in JSON: `timestamp` (sim seco
 `node_name`, `uid` (the node's place in the tree, depth first from 0, as BT.CPP
 numbers them), `previous_status` and `current_status` in BT.CPP's words (IDLE,
 RUNNING, SUCCESS, FAILURE), plus the node's `type` and the `navigator` that ticked it.
-bt_navigator's `bt_log_idle_transitions: false` leaves out changes to IDLE, as Nav2's
-logger does. Lines stream to the file after each tick and halt.
+btnav's nodes report each change as it happens (`status_listener`), so a condition
+that fails and is halted within one tick shows both changes, as Groot's logger does;
+any other node is compared after each tick and halt. bt_navigator's
+`bt_log_idle_transitions: false` leaves out changes to IDLE, as Nav2's logger does.
 """
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from typing import Any, TextIO
 
 from py_trees.common import Status
@@ -27,12 +30,17 @@ STATUS_NAMES = {
 class BtLog:
     """A bt_navigator tick listener writing node status changes."""
 
-    def __init__(self, sink: TextIO, *, idle_transitions: bool = True) -> None:
+    def __init__(
+        self, sink: TextIO, now: Callable[[], float], *, idle_transitions: bool = True
+    ) -> None:
         self.sink = sink
+        self.now = now
         self.idle_transitions = idle_transitions
         self.changes = 0
         self._root: Any = None
+        self._navigator = ""
         self._nodes: list[Any] = []
+        self._uid: dict[int, int] = {}
         self._last: list[Status] = []
 
     def __call__(self, navigator: Any, now: float) -> None:
@@ -40,29 +48,45 @@ class BtLog:
         if root is None:
             return
         if root is not self._root:
-            self._root = root
-            self._nodes = list(_depth_first(root))
-            self._last = [Status.INVALID] * len(self._nodes)
+            self._attach(root)
+        self._navigator = navigator.name
         last = self._last
         for uid, node in enumerate(self._nodes):
-            status = node.status
-            before = last[uid]
-            if status is before:
-                continue
-            last[uid] = status
-            if status is Status.INVALID and not self.idle_transitions:
-                continue
-            self.changes += 1
-            record = {
-                "timestamp": now,
-                "navigator": navigator.name,
-                "node_name": node.name,
-                "type": type(node).__name__,
-                "uid": uid,
-                "previous_status": STATUS_NAMES[before],
-                "current_status": STATUS_NAMES[status],
-            }
-            self.sink.write(json.dumps(record) + "\n")
+            if node.status is not last[uid]:
+                self._write(uid, node, last[uid], node.status, now)
+
+    def _attach(self, root: Any) -> None:
+        for node in self._nodes:  # the last tree's nodes stop reporting here
+            if "status_listener" in node.__dict__:
+                node.status_listener = None
+        self._root = root
+        self._nodes = list(_depth_first(root))
+        self._uid = {id(node): uid for uid, node in enumerate(self._nodes)}
+        self._last = [Status.INVALID] * len(self._nodes)  # a tree starts idle
+        for node in self._nodes:
+            if hasattr(type(node), "status_listener"):
+                node.status_listener = self._changed
+
+    def _changed(self, node: Any, old: Status, new: Status) -> None:
+        uid = self._uid.get(id(node))
+        if uid is not None:
+            self._write(uid, node, self._last[uid], new, self.now())
+
+    def _write(self, uid: int, node: Any, before: Status, status: Status, now: float) -> None:
+        self._last[uid] = status
+        if status is Status.INVALID and not self.idle_transitions:
+            return
+        self.changes += 1
+        record = {
+            "timestamp": now,
+            "navigator": self._navigator,
+            "node_name": node.name,
+            "type": type(node).__name__,
+            "uid": uid,
+            "previous_status": STATUS_NAMES[before],
+            "current_status": STATUS_NAMES[status],
+        }
+        self.sink.write(json.dumps(record) + "\n")
 
 
 def _depth_first(node: Any) -> Any:

@@ -70,7 +70,11 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
         log_file = sink("bt_log")
         if log_file is not None:
             bt.tick_listeners.append(
-                BtLog(log_file, idle_transitions=bt.params.bt_log_idle_transitions)
+                BtLog(
+                    log_file,
+                    lambda: nav.runtime.now,
+                    idle_transitions=bt.params.bt_log_idle_transitions,
+                )
             )
 
         wall0 = time.perf_counter()

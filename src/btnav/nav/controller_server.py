@@ -18,7 +18,8 @@ controller_id, goal_checker_id, progress_checker_id)`). One cycle, as Nav2's
    (thresholded by `min_*_velocity_threshold`). `NoValidControl` is tolerated for
    `failure_tolerance` seconds (zero velocity meanwhile; -1 forever), then
    PATIENCE_EXCEEDED; any other controller exception aborts with its code;
-5. the command goes to `runtime.set_cmd_vel`; feedback is (distance_to_goal, speed);
+5. the command goes to `runtime.set_cmd_vel`; feedback is Nav2's TrackingFeedback (the signed
+   cross-track and heading errors against the plan, distance_to_goal, speed, ...);
 6. the goal checker (`goal_checker_id`) decides success.
 
 A finished, aborted or canceled goal leaves a zero command. A new path sent while one
@@ -39,10 +40,11 @@ from ..core.error_codes import FollowPathError, NavResult
 from ..core.errors import FrameError
 from ..core.frames import MAP
 from ..core.geometry import Pose2D, angle_diff, compose_arrays
-from ..core.messages import Path, Twist
+from ..core.messages import Path, TrackingFeedback, Twist
 from ..params.paramsfile import ServerParams
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
+from .path_tracking import PathTracker
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugin, make_plugins, pick
 
@@ -57,12 +59,6 @@ class FollowPathGoal:
     controller_id: str = ""
     goal_checker_id: str = ""
     progress_checker_id: str = ""
-
-
-@dataclass
-class FollowPathFeedback:
-    distance_to_goal: float
-    speed: float
 
 
 class _Ticker:
@@ -105,6 +101,7 @@ class ControllerServer(ActionServer[FollowPathGoal]):
 
             handlers = {"PathHandler": FeasiblePathHandler()}
         self.path_handler = next(iter(handlers.values()))
+        self.tracker = PathTracker()
         self._set_control_duration()
         self.controller: Any = None
         self.goal_checker: Any = None
@@ -185,13 +182,7 @@ class ControllerServer(ActionServer[FollowPathGoal]):
 
         self._publish(cmd)
         goal = self.path_handler.transformed_goal(plan_to_costmap)
-        handle.publish_feedback(
-            FollowPathFeedback(
-                distance_to_goal=self.local_plan.length() if self.local_plan is not None else 0.0,
-                speed=math.hypot(velocity.linear_x, velocity.linear_y),
-            ),
-            now,
-        )
+        handle.publish_feedback(self._tracking_feedback(pose_in_plan, velocity, now), now)
         if self.goal_checker.is_goal_reached(pose, goal, velocity, self.local_plan):
             self._publish(Twist())
             return NavResult.success()
@@ -202,6 +193,25 @@ class ControllerServer(ActionServer[FollowPathGoal]):
         return NavResult.cancellation()
 
     # -- pieces -----------------------------------------------------------------------------
+
+    def _tracking_feedback(
+        self, pose_in_plan: Pose2D, velocity: Twist, now: float
+    ) -> TrackingFeedback:
+        """Nav2's FollowPath feedback (nav2_msgs/TrackingFeedback) against the global plan."""
+        plan = self.path_handler.global_plan
+        self.tracker.set_path(plan)
+        index, error, heading, remaining = self.tracker.track(pose_in_plan)
+        return TrackingFeedback(
+            stamp=now,
+            position_tracking_error=error,
+            heading_tracking_error=heading,
+            current_path_index=index,
+            robot_pose=pose_in_plan,
+            distance_to_goal=self.local_plan.length() if self.local_plan is not None else 0.0,
+            speed=math.hypot(velocity.linear_x, velocity.linear_y),
+            remaining_path_length=remaining,
+            frame_id=plan.frame_id or MAP,
+        )
 
     def _select(self, goal: FollowPathGoal) -> NavResult | None:
         chosen = []

@@ -150,6 +150,7 @@ class Navigator(ActionServer[Any]):
         if path != self.tree_file or self.bt.params.always_reload_bt_xml:
             self.root = load_tree(path, clock=self.bt.runtime.clock, context=self.bt.context)
             self.tree_file = path
+            self.bt.notify(self, self.bt.runtime.now)  # listeners meet the tree before its ticks
 
     def _halt(self) -> None:
         if self.root is not None and self.root.status == Status.RUNNING:
@@ -363,8 +364,8 @@ class BtNavigator:
             "robot_base_frame": self.params.robot_base_frame,
         }
         self.navigators: dict[str, Navigator] = {}
-        #: Called as `listener(navigator, now)` after every tick and halt of a tree (the
-        #: mission's bt_log reads node statuses there, as Groot's publisher does).
+        #: Called as `listener(navigator, now)` when a tree is built and after every tick
+        #: and halt of it (the mission's bt_log reads node statuses there).
         self.tick_listeners: list[Callable[[Navigator, float], None]] = []
         for section in server.plugins_of("navigator"):
             if section.cls is None:

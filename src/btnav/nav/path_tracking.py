@@ -1,0 +1,71 @@
+"""Where the robot is against the path it follows: Nav2's controller-server tracking feedback.
+
+The robot is projected onto the path's segments within a window ahead of the last
+closest one (a path is followed forward; `search_dist` metres of it are searched);
+the nearest segment gives the signed cross-track error (positive left of the path),
+the heading error against that segment's direction, and the length still to go.
+Vectorised over the window's segments.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..core.geometry import Pose2D, normalize_angle
+from ..core.messages import Path
+
+
+class PathTracker:
+    def __init__(self, search_dist: float = 2.0) -> None:
+        self.search_dist = search_dist
+        self._path: Path | None = None
+        self._index = 0
+        self._seg_len = np.zeros(0)
+        self._remaining = np.zeros(0)  # length from each pose to the end
+
+    def set_path(self, path: Path) -> None:
+        if path is self._path:
+            return
+        self._path = path
+        self._index = 0
+        xy = path.poses[:, :2]
+        d = xy[1:] - xy[:-1]
+        self._seg_len = np.hypot(d[:, 0], d[:, 1])
+        self._remaining = np.concatenate([np.cumsum(self._seg_len[::-1])[::-1], [0.0]])
+
+    def track(self, pose: Pose2D) -> tuple[int, float, float, float]:
+        """(index of the closest segment's first pose, signed cross-track error,
+        heading error, remaining length) for `pose` in the path's frame."""
+        path = self._path
+        if path is None or len(path) == 0:
+            return 0, 0.0, 0.0, 0.0
+        poses = path.poses
+        if len(path) == 1:
+            x, y, yaw = poses[0]
+            heading = float(normalize_angle(pose.yaw - yaw))
+            return 0, math.hypot(pose.x - x, pose.y - y), heading, 0.0
+        start = min(self._index, len(path) - 2)
+        # the segments starting within search_dist (along the path) of the last closest one
+        ahead = self._remaining[start] - self._remaining[start:]
+        stop = min(
+            start + max(1, int(np.searchsorted(ahead, self.search_dist, "right"))), len(path) - 1
+        )
+        a = poses[start:stop, :2]
+        seg = poses[start + 1 : stop + 1, :2] - a
+        lengths = self._seg_len[start:stop]
+        rel = np.array([pose.x, pose.y]) - a
+        sq = lengths**2
+        t = np.clip((rel * seg).sum(axis=1) / np.where(sq > 0, sq, 1.0), 0.0, 1.0)
+        nearest = a + seg * t[:, None]
+        dist = np.hypot(pose.x - nearest[:, 0], pose.y - nearest[:, 1])
+        k = int(np.argmin(dist))
+        i = start + k
+        self._index = i
+        sx, sy = seg[k]
+        side = sx * rel[k, 1] - sy * rel[k, 0]  # > 0: left of the segment's direction
+        error = float(dist[k]) if side >= 0 else -float(dist[k])
+        heading = float(normalize_angle(pose.yaw - math.atan2(sy, sx)))
+        remaining = float(self._remaining[i + 1] + lengths[k] * (1.0 - t[k]))
+        return i, error, heading, remaining
