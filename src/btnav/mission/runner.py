@@ -22,7 +22,7 @@ from ..maps.map_io import save_map
 from ..navigators.navigator import Navigator
 from .bt_log import BtLog
 from .counters import NavigationCounters
-from .mission import Mission
+from .mission import TASK_ACTION, Mission
 from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin
 from .report import RunReport
 from .trajectory import TrajectoryRecorder
@@ -69,13 +69,15 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
         bt.tick_listeners.append(counters)
         log_file = sink("bt_log")
         if log_file is not None:
-            bt.tick_listeners.append(
-                BtLog(
-                    log_file,
-                    lambda: nav.runtime.now,
-                    idle_transitions=bt.params.bt_log_idle_transitions,
-                )
+            log = BtLog(
+                log_file,
+                lambda: nav.runtime.now,
+                idle_transitions=bt.params.bt_log_idle_transitions,
             )
+            bt.tick_listeners.append(log)
+            for navigator in bt.navigators.values():  # the task's tree is built already
+                if navigator.action == TASK_ACTION[mission.task] and navigator.root is not None:
+                    log(navigator, nav.now)
 
         wall0 = time.perf_counter()
         limit_reached = False
