@@ -37,9 +37,23 @@ _EPS_TRANS = 1e-4
 _CHUNK = 128
 
 
-def integrated_index(poses: NDArray[np.float64], start: int, distance: float) -> int:
+def segment_lengths(poses: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Length of each segment poses[i] -> poses[i + 1] (what `integrated_index` sums)."""
+    d = poses[1:, :2] - poses[:-1, :2]  # np.diff, without its overhead
+    return np.hypot(d[:, 0], d[:, 1])
+
+
+def integrated_index(
+    poses: NDArray[np.float64],
+    start: int,
+    distance: float,
+    seg: NDArray[np.float64] | None = None,
+) -> int:
     """Index of the first pose after `start` whose path distance from `start` exceeds `distance`
-    (len(poses) when none does): the exclusive end of the window of that length."""
+    (len(poses) when none does): the exclusive end of the window of that length.
+
+    `seg`, when given, is `segment_lengths(poses)` (worked out once for a plan that is
+    pruned from the front cycle after cycle: the lengths do not change)."""
     n = len(poses)
     if start >= n:
         return n
@@ -50,13 +64,25 @@ def integrated_index(poses: NDArray[np.float64], start: int, distance: float) ->
     size = _CHUNK
     while i < n - 1:
         j = min(i + size, n - 1)
-        d = poses[i + 1 : j + 1, :2] - poses[i:j, :2]  # np.diff, without its overhead
-        seg = np.hypot(d[:, 0], d[:, 1])
-        seg[0] += total  # the chunk continues the running sum: total + s_i, then + s_i+1 ...
-        along = np.cumsum(seg)
-        beyond = np.flatnonzero(along > distance)
-        if beyond.size:
-            return i + 1 + int(beyond[0])
+        if seg is None:
+            d = poses[i + 1 : j + 1, :2] - poses[i:j, :2]  # np.diff, without its overhead
+            lengths = np.hypot(d[:, 0], d[:, 1])
+        else:
+            lengths = seg[i:j]
+        if i != start:
+            # the chunk continues the running sum: total + s_i, then + s_i+1 ...
+            lengths = lengths.copy()
+            lengths[0] += total
+        along = np.cumsum(lengths)
+        # The sums never decrease (lengths are >= 0): the first one beyond `distance` is
+        # found by bisection; a NaN (sorted last) is checked the long way.
+        k = int(along.searchsorted(distance, side="right"))
+        if k < len(along):
+            if along[k] > distance:
+                return i + 1 + k
+            beyond = np.flatnonzero(along > distance)
+            if beyond.size:
+                return i + 1 + int(beyond[0])
         total = float(along[-1])
         i = j
         size *= 4
@@ -64,13 +90,54 @@ def integrated_index(poses: NDArray[np.float64], start: int, distance: float) ->
 
 
 def closest_index(
-    poses: NDArray[np.float64], x: float, y: float, search_dist: float = math.inf
+    poses: NDArray[np.float64],
+    x: float,
+    y: float,
+    search_dist: float = math.inf,
+    seg: NDArray[np.float64] | None = None,
 ) -> int:
-    """The closest pose to (x, y) among the first `search_dist` metres of the path."""
-    upper = integrated_index(poses, 0, search_dist) if math.isfinite(search_dist) else len(poses)
+    """The closest pose to (x, y) among the first `search_dist` metres of the path (`seg`:
+    see `integrated_index`)."""
+    upper = (
+        integrated_index(poses, 0, search_dist, seg) if math.isfinite(search_dist) else len(poses)
+    )
     upper = max(upper, 1)
     d2 = (poses[:upper, 0] - x) ** 2 + (poses[:upper, 1] - y) ** 2
-    return int(np.argmin(d2))
+    return int(d2.argmin())
+
+
+def first_beyond(along: NDArray[np.float64], distance: float) -> int:
+    """The first index of the running lengths `along` beyond `distance` (len(along) if none):
+    by bisection, as lengths are >= 0; a NaN (sorted last) is checked the long way."""
+    k = int(along.searchsorted(distance, side="right"))
+    if k < len(along) and not along[k] > distance:
+        beyond = np.flatnonzero(along > distance)
+        k = int(beyond[0]) if beyond.size else len(along)
+    return k
+
+
+def closest_within(
+    poses: NDArray[np.float64], along: NDArray[np.float64], x: float, y: float, search: float
+) -> int:
+    """`closest_index(poses, x, y, search)`, given `along = np.cumsum(segment_lengths(poses))`
+    (the same running sums `integrated_index` adds chunk by chunk)."""
+    n = len(poses)
+    upper = n
+    if math.isfinite(search):
+        k = first_beyond(along, search)
+        upper = k + 1 if k < len(along) else n
+    upper = max(upper, 1)
+    d2 = (poses[:upper, 0] - x) ** 2 + (poses[:upper, 1] - y) ** 2
+    return int(d2.argmin())
+
+
+def window_end(n: int, start: int, along: NDArray[np.float64], distance: float) -> int:
+    """`integrated_index(poses, start, distance)` of n poses, given the running lengths
+    from `start` (`np.cumsum(segment_lengths(poses)[start:])`)."""
+    if start >= n:
+        return n
+    k = first_beyond(along, distance)
+    return start + 1 + k if k < len(along) else n
 
 
 def first_path_constraint(
@@ -153,6 +220,9 @@ class FeasiblePathHandler(PathHandler):
         self.global_plan = Path(0.0, np.zeros((0, 3)))
         self.plan_up_to_constraint = self.global_plan.poses
         self.constraint_locale = 0
+        #: segment_lengths(plan_up_to_constraint), and the array they belong to
+        self._seg: NDArray[np.float64] | None = None
+        self._seg_of: NDArray[np.float64] | None = None
 
     @property
     def _rotation_threshold(self) -> float:
@@ -197,18 +267,33 @@ class FeasiblePathHandler(PathHandler):
             raise InvalidPath("Received plan with zero length")
         if self.params.reject_unit_path and len(poses) == 1:
             raise InvalidPath("Received plan with length of one")
-        closest = closest_index(poses, pose.x, pose.y, self._search_dist(costmap))
+        seg = self._seg
+        if self._seg_of is not poses or seg is None:
+            seg = segment_lengths(poses)
+        # closest_index and integrated_index on running sums of the cached lengths: one
+        # cumsum from the start (and one from the closest pose when that is not the first)
+        along = np.cumsum(seg)
+        closest = closest_within(poses, along, pose.x, pose.y, self._search_dist(costmap))
         if len(poses) > 1 and closest == len(poses) - 1:
             closest -= 1
-        end = integrated_index(poses, closest, self.params.prune_distance)
+        if closest:
+            along = np.cumsum(seg[closest:])
+        end = window_end(len(poses), closest, along, self.params.prune_distance)
         local = poses[closest:end]
         if plan_to_costmap is not None:
             local = compose_arrays(plan_to_costmap.as_array(), local)
-        _, inside = costmap.world_to_map(local[:, :2])
+        # Cut where the plan leaves the costmap (costmap.world_to_map's cells, tested as
+        # floats: the same verdicts)
+        res = costmap.resolution
+        ny, nx = costmap.costs.shape
+        fx = np.floor((local[:, 0] - costmap.origin_x) / res)
+        fy = np.floor((local[:, 1] - costmap.origin_y) / res)
+        inside = (fx >= 0) & (fx < nx) & (fy >= 0) & (fy < ny)
         off = np.flatnonzero(~inside)
         if off.size:
             local = local[: off[0]]
         self.plan_up_to_constraint = poses[closest:]
+        self._seg, self._seg_of = seg[closest:], self.plan_up_to_constraint
         if self._constrained and self.constraint_locale:
             last = self.plan_up_to_constraint[-1]
             near = (

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
-from ..core.geometry import Pose2D, angle_diff
+from ..core.geometry import Pose2D, angle_diff, angles_in_range, normalize_angle
 from ..core.messages import Path, Twist
 from ..costmap.cost_values import FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from ..costmap.costmap_2d import Costmap2D
@@ -37,7 +37,7 @@ from ..plugins import register
 from .controller import Controller
 from .exceptions import InvalidPath, NoValidControl
 from .goal_checkers import path_length
-from .path_handler import closest_index, integrated_index
+from .path_handler import closest_within, segment_lengths, window_end
 
 _DW = "used only by use_dynamic_window, which btnav's RPP does not implement yet"
 
@@ -52,14 +52,17 @@ def lookahead_point(local: NDArray[np.float64], dist: float) -> NDArray[np.float
     i = int(beyond[0])
     if i == 0:
         return local[0, :2].copy()
-    p, q = local[i - 1, :2], local[i, :2]
-    d = q - p
+    # Scalar arithmetic on the crossing segment (the same operations as on 2-vectors).
+    px, py = local[i - 1, :2].tolist()
+    qx, qy = local[i, :2].tolist()
+    dx, dy = qx - px, qy - py
     # |p + t d| = dist, t in [0, 1]
-    a, b, c = d @ d, 2 * (p @ d), p @ p - dist * dist
+    a, b, c = dx * dx + dy * dy, 2 * (px * dx + py * dy), px * px + py * py - dist * dist
     if a < 1e-12:
-        return q.copy()
+        return np.array([qx, qy])
     t = (-b + math.sqrt(max(b * b - 4 * a * c, 0.0))) / (2 * a)
-    return p + min(max(t, 0.0), 1.0) * d
+    t = min(max(t, 0.0), 1.0)
+    return np.array([px + t * dx, py + t * dy])
 
 
 def curvature_to(x: float, y: float) -> float:
@@ -136,6 +139,9 @@ class RegulatedPurePursuitController(Controller):
         self.control_duration = 0.05
         self.max_linear_vel = self.params.max_linear_vel
         self._plan = np.zeros((0, 3))
+        #: segment_lengths(self._plan), and the array they belong to
+        self._seg: NDArray[np.float64] | None = None
+        self._seg_of: NDArray[np.float64] | None = None
         self.carrot = np.zeros(2)
         self.is_rotating_to_heading = False
 
@@ -158,21 +164,42 @@ class RegulatedPurePursuitController(Controller):
 
     def _local_plan(self, pose: Pose2D, costmap: Costmap2D) -> NDArray[np.float64]:
         """Prune the plan behind the robot; the part within the costmap, in the robot frame."""
-        if len(self._plan) == 0:
+        plan = self._plan
+        if len(plan) == 0:
             raise InvalidPath("Received plan with zero length")
-        extent = max(costmap.size_in_meters) / 2.0
+        extent = max(costmap.costs.shape) * costmap.resolution / 2.0
         search = self.params.max_robot_pose_search_dist
         search = extent if search is None else (math.inf if search < 0 else search)
-        closest = closest_index(self._plan, pose.x, pose.y, search)
-        self._plan = self._plan[closest:]
-        end = integrated_index(self._plan, 0, 2.0 * extent)
-        window = self._plan[:end]
-        far = np.flatnonzero(np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y) > extent)
+        x, y, yaw = pose.x, pose.y, pose.yaw
+        # the plan's segment lengths, worked out once per plan (pruning keeps them)
+        seg = self._seg
+        if self._seg_of is not plan or seg is None:
+            seg = segment_lengths(plan)
+        along = np.cumsum(seg)  # the running sums closest_index / integrated_index add
+        closest = closest_within(plan, along, x, y, search)
+        if closest:
+            plan = self._plan = plan[closest:]
+            seg = seg[closest:]
+            along = np.cumsum(seg)
+        self._seg, self._seg_of = seg, plan
+        end = window_end(len(plan), 0, along, 2.0 * extent)
+        window = plan[:end]
+        dx = window[:, 0] - x
+        dy = window[:, 1] - y
+        far = np.flatnonzero(np.hypot(dx, dy) > extent)
         if far.size:
-            window = window[: max(int(far[0]), 1)]
+            k = max(int(far[0]), 1)
+            window, dx, dy = window[:k], dx[:k], dy[:k]
+        # pose.inverse_transform_points and angle_diff, on the differences already taken
         local = np.empty_like(window)
-        local[:, :2] = pose.inverse_transform_points(window[:, :2])
-        local[:, 2] = angle_diff(window[:, 2], pose.yaw)
+        c, s = math.cos(yaw), math.sin(yaw)
+        local[:, 0] = c * dx + s * dy
+        local[:, 1] = -s * dx + c * dy
+        dyaw = window[:, 2] - yaw
+        if angles_in_range(dyaw):
+            local[:, 2] = dyaw  # already in range: what normalize_angle gives back
+        else:
+            local[:, 2] = normalize_angle(dyaw)
         return local
 
     def compute_velocity_commands(
@@ -188,18 +215,20 @@ class RegulatedPurePursuitController(Controller):
             )
         carrot = lookahead_point(local, lookahead)
         self.carrot = carrot
-        curvature = curvature_to(*carrot)
-        rotate_carrot = carrot
+        carrot_x, carrot_y = carrot.tolist()
+        curvature = curvature_to(carrot_x, carrot_y)
+        rotate_x, rotate_y = carrot_x, carrot_y
         if p.use_fixed_curvature_lookahead:
-            rotate_carrot = lookahead_point(local, p.curvature_lookahead_dist)
-            curvature = curvature_to(*rotate_carrot)
+            rotate_x, rotate_y = lookahead_point(local, p.curvature_lookahead_dist).tolist()
+            curvature = curvature_to(rotate_x, rotate_y)
         sign = 1.0
         if p.allow_reversing:
-            sign = 1.0 if carrot[0] >= 0.0 else -1.0
+            sign = 1.0 if carrot_x >= 0.0 else -1.0
 
-        goal = Pose2D.from_array(self._plan[-1])
+        goal = Pose2D(*self._plan[-1].tolist())
         transformed = Path(0.0, local, costmap.frame_id)
-        angle_to_path = math.atan2(rotate_carrot[1], rotate_carrot[0])
+        length = path_length(local)
+        angle_to_path = math.atan2(rotate_y, rotate_x)
         if sign < 0:
             angle_to_path = angle_diff(angle_to_path + math.pi, 0.0)
         if p.use_rotate_to_heading and self._goal_xy_reached(
@@ -213,14 +242,12 @@ class RegulatedPurePursuitController(Controller):
         else:
             self.is_rotating_to_heading = False
             cost = float(costmap.cost_at_point(pose.x, pose.y))
-            linear = self._constrained_linear(curvature, cost, local, costmap) * sign
+            linear = self._constrained_linear(curvature, cost, local, costmap, length) * sign
             angular = linear * curvature
 
         if p.use_collision_detection:
-            carrot_dist = math.hypot(*carrot)
-            if self._collision_imminent(
-                pose, linear, angular, carrot_dist, path_length(local), costmap
-            ):
+            carrot_dist = math.hypot(carrot_x, carrot_y)
+            if self._collision_imminent(pose, linear, angular, carrot_dist, length, costmap):
                 raise NoValidControl("RegulatedPurePursuitController detected collision ahead!")
         return Twist(linear_x=float(linear), angular_z=float(angular))
 
@@ -243,7 +270,12 @@ class RegulatedPurePursuitController(Controller):
         return 0.0, w
 
     def _constrained_linear(
-        self, curvature: float, pose_cost: float, local: NDArray[np.float64], costmap: Costmap2D
+        self,
+        curvature: float,
+        pose_cost: float,
+        local: NDArray[np.float64],
+        costmap: Costmap2D,
+        length: float | None = None,
     ) -> float:
         p = self.params
         v = self.max_linear_vel
@@ -264,7 +296,9 @@ class RegulatedPurePursuitController(Controller):
                 cost_vel = v * (p.cost_scaling_gain * dist / p.cost_scaling_dist)
         v = max(min(cost_vel, curvature_vel), p.regulated_linear_scaling_min_speed)
         # Approach scaling: only once the remaining path is shorter than the scaling distance.
-        if path_length(local) < p.approach_velocity_scaling_dist:
+        if length is None:
+            length = path_length(local)
+        if length < p.approach_velocity_scaling_dist:
             scale = math.hypot(local[-1, 0], local[-1, 1]) / p.approach_velocity_scaling_dist
             v = min(v, max(v * scale, p.min_approach_linear_velocity))
         return min(max(abs(v), 0.0), self.max_linear_vel)
@@ -339,17 +373,31 @@ def _arc_collides(
     """The vectorised check of `_collision_imminent` for a short arc, one point at a time
     (the same arithmetic: headings, running sums, distances, cells)."""
     x0, y0, yaw = pose.x, pose.y, pose.yaw
+    # costmap.cost_at_point, inlined
+    costs = costmap.costs
+    ny, nx = costs.shape
+    ox, oy, res = costmap.origin_x, costmap.origin_y, costmap.resolution
+    # |(dx, dy)| <= limit as np.hypot decides it: squared distances clearly on one side
+    # decide without it (hypot is within an ulp, the squares within a few)
+    near, far = -1.0, math.inf  # (always np.hypot for extreme limits)
+    if 1e-100 < limit < 1e100:
+        near, far = limit * limit * (1.0 - 1e-9), limit * limit * (1.0 + 1e-9)
     sum_x = sum_y = 0.0
     for k in range(n):
         theta = yaw + k * dt * angular  # heading before each step
         sum_x += step * math.cos(theta)
         sum_y += step * math.sin(theta)
         x, y = x0 + sum_x, y0 + sum_y
-        if not np.hypot(x - x0, y - y0) <= limit:
+        dx, dy = x - x0, y - y0
+        d2 = dx * dx + dy * dy
+        if not d2 <= near and (d2 > far or not np.hypot(dx, dy) <= limit):
             return False  # the rest is beyond the carrot
-        cost = costmap.cost_at_point(x, y)
-        if cost >= INSCRIBED_INFLATED_OBSTACLE and cost != NO_INFORMATION:
-            return True
+        mx = math.floor((x - ox) / res)
+        my = math.floor((y - oy) / res)
+        if 0 <= mx < nx and 0 <= my < ny:
+            cost = int(costs[my, mx])
+            if cost >= INSCRIBED_INFLATED_OBSTACLE and cost != NO_INFORMATION:
+                return True
     return False
 
 

@@ -9,10 +9,11 @@ nothing ever asks for the past.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .errors import FrameError
-from .geometry import Pose2D
+from .geometry import Pose2D, normalize_angle
 from .suggest import best_match
 
 #: The REP-105 chain btnav always has.
@@ -50,9 +51,14 @@ class FrameTree:
     # -- building -------------------------------------------------------------------
 
     def _set(self, parent: str, child: str, tf: Pose2D, stamp: float, static: bool) -> None:
+        old = self._edges.get(child)
+        if old is not None and old.parent == parent and not old.static and not static:
+            # a new value of a moving transform already in the tree (odometry, localisation)
+            self._edges[child] = StampedTransform(parent, child, tf, stamp, False)
+            self._lookups.clear()
+            return
         if parent == child:
             raise FrameError(f"frame '{child}' cannot be its own parent")
-        old = self._edges.get(child)
         if old is not None and old.parent != parent:
             raise FrameError(
                 f"frame '{child}' already has parent '{old.parent}'; a frame has one parent"
@@ -112,15 +118,22 @@ class FrameTree:
                 suggestion=best_match(frame, self.frames),
             )
 
-    def _to_root(self, frame: str) -> tuple[str, Pose2D]:
-        """The root of `frame`'s tree and `frame`'s pose in it."""
-        pose = Pose2D()
+    def _to_root(self, frame: str) -> tuple[str, float, float, float]:
+        """The root of `frame`'s tree and `frame`'s pose in it, as (root, x, y, yaw): the
+        arithmetic of `edge.transform @ pose` from the identity, on plain floats."""
+        x = y = yaw = 0.0
         node = frame
-        while node in self._edges:
-            edge = self._edges[node]
-            pose = edge.transform @ pose
+        edges = self._edges
+        edge = edges.get(node)
+        while edge is not None:
+            tf = edge.transform
+            c, s = math.cos(tf.yaw), math.sin(tf.yaw)
+            x, y, yaw = tf.x + c * x - s * y, tf.y + s * x + c * y, tf.yaw + yaw
+            if not -math.pi < yaw <= math.pi:
+                yaw = normalize_angle(yaw)  # as Pose2D keeps its yaw
             node = edge.parent
-        return node, pose
+            edge = edges.get(node)
+        return node, x, y, yaw
 
     def lookup(self, target: str, source: str) -> Pose2D:
         """The pose of frame `source` expressed in frame `target` (tf2's lookupTransform(target, source)).
@@ -132,14 +145,20 @@ class FrameTree:
             return found
         self.require(target)
         self.require(source)
-        root_t, target_in_root = self._to_root(target)
-        root_s, source_in_root = self._to_root(source)
+        root_t, tx, ty, tyaw = self._to_root(target)
+        root_s, sx, sy, syaw = self._to_root(source)
         if root_t != root_s:
             raise FrameError(
                 f"frames '{target}' and '{source}' are not connected "
                 f"(their trees have roots '{root_t}' and '{root_s}')"
             )
-        found = target_in_root.inverse() @ source_in_root
+        # Pose2D(tx, ty, tyaw).inverse() @ Pose2D(sx, sy, syaw), on plain floats
+        c, s = math.cos(tyaw), math.sin(tyaw)
+        ix, iy, iyaw = -c * tx - s * ty, s * tx - c * ty, -tyaw
+        if not -math.pi < iyaw <= math.pi:
+            iyaw = normalize_angle(iyaw)
+        c, s = math.cos(iyaw), math.sin(iyaw)
+        found = Pose2D(ix + c * sx - s * sy, iy + s * sx + c * sy, iyaw + syaw)
         self._lookups[(target, source)] = found
         return found
 

@@ -20,9 +20,9 @@ TWO_PI = 2.0 * math.pi
 def normalize_angle(a: Any) -> Any:
     """Wrap angles to (-pi, pi]; works on floats and arrays alike."""
     if isinstance(a, np.ndarray):
-        in_range = (a > -np.pi) & (a <= np.pi)
-        if a.dtype == np.float64 and in_range.all():
+        if a.dtype == np.float64 and angles_in_range(a):
             return a.copy()  # what the general path gives back for angles already in range
+        in_range = (a > -np.pi) & (a <= np.pi)
         out = np.mod(a + np.pi, TWO_PI) - np.pi
         out = np.where(out <= -np.pi, out + TWO_PI, out)
         # Angles already in range come back untouched (the round trip costs an ulp).
@@ -34,6 +34,15 @@ def normalize_angle(a: Any) -> Any:
         out += TWO_PI
     out -= math.pi
     return out + TWO_PI if out <= -math.pi else out
+
+
+def angles_in_range(a: NDArray[np.float64]) -> bool:
+    """Whether a non-empty float array lies in (-pi, pi] (NaN does not): one reduction of
+    |a| in the common case instead of a mask of two comparisons."""
+    if not a.size:
+        return False
+    m = np.abs(a).max()
+    return bool(m < np.pi or (m == np.pi and a.min() > -np.pi))
 
 
 def angle_diff(a: Any, b: Any) -> Any:
@@ -66,10 +75,12 @@ class Pose2D:
     def from_array(cls, a: ArrayLike) -> Pose2D:
         v = np.asarray(a, dtype=float).ravel()
         if v.shape == (2,):
-            return cls(v[0], v[1], 0.0)
+            x, y = v.tolist()
+            return cls(x, y, 0.0)
         if v.shape != (3,):
             raise ValueError(f"a pose is [x, y] or [x, y, yaw], got {v.shape[0]} numbers")
-        return cls(v[0], v[1], v[2])
+        x, y, yaw = v.tolist()  # Python floats: the constructor takes them as they are
+        return cls(x, y, yaw)
 
     def as_array(self) -> NDArray[np.float64]:
         return np.array([self.x, self.y, self.yaw])
@@ -128,6 +139,18 @@ def compose_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np
     """Compose many poses at once: rows of (x, y, yaw), broadcasting like `a[i] @ b[i]`."""
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
+    if a.shape == (3,) and b.ndim == 2 and b.shape[1] == 3:
+        # one pose composed with many: its cos and sin once, as Python floats (np.cos of a
+        # 0-d array and math.cos give the same double)
+        ax, ay, ayaw = a.tolist()
+        ca, sa = math.cos(ayaw), math.sin(ayaw)
+        bx, by = b[:, 0], b[:, 1]
+        out = np.empty(b.shape)
+        out[:, 0] = ax + ca * bx - sa * by
+        out[:, 1] = ay + sa * bx + ca * by
+        yaw = ayaw + b[:, 2]
+        out[:, 2] = yaw if angles_in_range(yaw) else normalize_angle(yaw)
+        return out
     c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 0] + c * b[..., 0] - s * b[..., 1]

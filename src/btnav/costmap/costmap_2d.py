@@ -68,12 +68,10 @@ class Costmap2D:
         """(..., 2) world points -> (..., 2) integer (mx, my) and whether each is on the map."""
         p = np.asarray(xy, dtype=float)
         m = np.floor((p - (self.origin_x, self.origin_y)) / self.resolution).astype(np.int64)
-        inside = (
-            (m[..., 0] >= 0)
-            & (m[..., 0] < self.size_x)
-            & (m[..., 1] >= 0)
-            & (m[..., 1] < self.size_y)
-        )
+        ny, nx = self.costs.shape
+        # 0 <= m < size as one unsigned test (a negative index wraps to a huge one)
+        inside = m[..., 0].view(np.uint64) < nx
+        inside &= m[..., 1].view(np.uint64) < ny
         return m, inside
 
     def map_to_world(self, mxy: ArrayLike) -> NDArray[np.float64]:

@@ -67,30 +67,38 @@ def polygon_cells(
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     res = costmap.resolution
     ox, oy = costmap.origin_x, costmap.origin_y
-    size_x, size_y = costmap.size_x, costmap.size_y
+    size_y, size_x = costmap.costs.shape
     # The outline, sampled finer than a cell.
-    a, b = poly, np.roll(poly, -1, axis=0)
+    a = poly
+    b = np.concatenate((poly[1:], poly[:1]))  # np.roll(poly, -1, axis=0)
     ab = b - a
-    n = np.maximum(np.ceil(np.hypot(*ab.T) / (0.25 * res)).astype(int), 1)
+    n = np.maximum(np.ceil(np.hypot(ab[:, 0], ab[:, 1]) / (0.25 * res)).astype(int), 1)
     seg, t = _outline_steps(n)
-    outline = a[seg] + t[:, None] * ab[seg]
-    m, inside = costmap.world_to_map(outline)
-    ys_out, xs_out = m[inside][:, 1], m[inside][:, 0]
+    # its cells (costmap.world_to_map, x and y apart; 0 <= m < size as one unsigned test)
+    mx = np.floor((a[seg, 0] + t * ab[seg, 0] - ox) / res).astype(np.int64)
+    my = np.floor((a[seg, 1] + t * ab[seg, 1] - oy) / res).astype(np.int64)
+    inside = mx.view(np.uint64) < size_x
+    inside &= my.view(np.uint64) < size_y
+    ys_out, xs_out = my[inside], mx[inside]
     # The inside: cell centres in the bounding box, even-odd rule. (The box's corner
     # cells as world_to_map finds them, one point at a time.)
-    (min_x, min_y), (max_x, max_y) = poly.min(axis=0).tolist(), poly.max(axis=0).tolist()
+    px, py = poly[:, 0].tolist(), poly[:, 1].tolist()
+    min_x, min_y, max_x, max_y = min(px), min(py), max(px), max(py)
     x0 = max(math.floor((min_x - ox) / res), 0)
     y0 = max(math.floor((min_y - oy) / res), 0)
     x1 = min(math.floor((max_x - ox) / res) + 1, size_x)
     y1 = min(math.floor((max_y - oy) / res) + 1, size_y)
     if x0 < x1 and y0 < y1:
-        cx, cy = costmap.cell_centers(x0, y0, x1, y1)
+        # costmap.cell_centers(x0, y0, x1, y1)
+        cx = (ox + (np.arange(x0, x1) + 0.5) * res)[None, :]
+        cy = (oy + (np.arange(y0, y1) + 0.5) * res)[:, None]
         # Every edge against every cell centre at once: (edges, rows, cols).
         ax, ay = a[:, 0, None, None], a[:, 1, None, None]
         bx, by = b[:, 0, None, None], b[:, 1, None, None]
         crosses = (ay > cy) != (by > cy)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xint = ax + (cy - ay) * (bx - ax) / (by - ay)
+        rise = by - ay
+        rise[rise == 0] = 1.0  # a level edge crosses no row: any divisor does
+        xint = ax + (cy - ay) * (bx - ax) / rise
         inside_poly = np.logical_xor.reduce(crosses & (cx < xint), axis=0)
         iy, ix = np.nonzero(inside_poly)
         return np.concatenate([ys_out, iy + y0]), np.concatenate([xs_out, ix + x0])

@@ -129,18 +129,23 @@ class InflationLayer(Layer):
             seeds |= region == NO_INFORMATION
         if not seeds.any():
             return
-        dist_cells = distance_transform_edt(~seeds)
-        iy, ix = slice(window.y0 - y0, window.yn - y0), slice(window.x0 - x0, window.xn - x0)
-        d = dist_cells[iy, ix]
-        near = d <= r
+        # The nearest seed of every cell (scipy's exact Euclidean feature transform); the
+        # squared distances in cells are integers, worked out only over the window.
+        near_y, near_x = distance_transform_edt(
+            ~seeds, return_distances=False, return_indices=True
+        )[:, window.y0 - y0 : window.yn - y0, window.x0 - x0 : window.xn - x0]
+        dy = near_y - np.arange(window.y0 - y0, window.yn - y0)[:, None]
+        dx = near_x - np.arange(window.x0 - x0, window.xn - x0)
+        squared = dy * dy
+        squared += dx * dx
+        near = squared <= r * r  # (the distance sqrt(squared) <= r)
         if not near.any():
             return
-        # The distances are sqrt(dx^2 + dy^2) in cells: the cost of each squared distance
-        # is worked out once (Nav2's cached_costs_), then looked up.
+        # The cost of each squared distance is worked out once (Nav2's cached_costs_),
+        # then looked up.
         table = self._cost_table(r, master.resolution)
-        squared = np.rint(d * d)
         np.minimum(squared, len(table) - 1, out=squared)
-        cost = table[squared.astype(np.intp)]
+        cost = table[squared]
         old = master.costs[window.slices]
         unknown = old == NO_INFORMATION
         # Unknown cells take the inflated cost only when it is "inscribed" or worse,

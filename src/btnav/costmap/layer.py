@@ -43,9 +43,10 @@ class Bounds:
 
     def touch_points(self, xy: NDArray[np.float64]) -> None:
         if len(xy):
-            lo, hi = xy.min(axis=0), xy.max(axis=0)
-            self.touch(float(lo[0]), float(lo[1]))
-            self.touch(float(hi[0]), float(hi[1]))
+            # column by column (a reduction along the short axis costs several times more)
+            x, y = xy[:, 0], xy[:, 1]
+            self.touch(float(x.min()), float(y.min()))
+            self.touch(float(x.max()), float(y.max()))
 
     def merge(self, other: Bounds) -> None:
         if not other.empty:

@@ -15,6 +15,7 @@ traced at once: one numpy array of cells for the whole scan.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -178,21 +179,30 @@ def scan_observation(
     """The marking points and clearing rays of a scan, in the frame `sensor_pose` is given in."""
     r = np.asarray(scan.ranges, dtype=float)
     c, s = _beam_directions(scan.angle_min, scan.angle_increment, len(r))
-    finite = np.isfinite(r) & (r >= scan.range_min) & (r <= scan.range_max)
-    mark = finite & (r < source.obstacle_max_range) & (r >= source.obstacle_min_range)
+    lo, hi = scan.range_min, scan.range_max
+    finite = (r >= lo) & (r <= hi)  # NaN fails both; +-inf one of them when lo, hi are finite
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        finite &= np.isfinite(r)
+    mark = finite & (r < source.obstacle_max_range)
+    mark &= r >= source.obstacle_min_range
     rm = r[mark]
-    marks = sensor_pose.transform_points(np.stack([rm * c[mark], rm * s[mark]], axis=-1))
+    marks = _placed(sensor_pose, rm * c[mark], rm * s[mark])
     # Clearing: valid readings, and +inf as "nothing up to range_max" when inf_is_valid.
-    length = np.where(finite, r, np.nan)
     if source.inf_is_valid:
+        length = np.where(finite, r, np.nan)
         length = np.where(np.isposinf(r), scan.range_max - INF_EPSILON, length)
-    ok = np.isfinite(length)
-    length = np.minimum(length[ok], source.raytrace_max_range)
-    start = np.full(length.shape, source.raytrace_min_range)
+        ok = np.isfinite(length)
+        length = length[ok]
+    else:
+        ok = finite
+        length = r[ok]
+    length = np.minimum(length, source.raytrace_max_range)
+    start = source.raytrace_min_range
     keep = length > start
     cs, ss = c[ok][keep], s[ok][keep]
-    starts = sensor_pose.transform_points(np.stack([start[keep] * cs, start[keep] * ss], -1))
-    ends = sensor_pose.transform_points(np.stack([length[keep] * cs, length[keep] * ss], -1))
+    length = length[keep]
+    starts = _placed(sensor_pose, start * cs, start * ss)
+    ends = _placed(sensor_pose, length * cs, length * ss)
     return Observation(
         scan.stamp if stamp is None else stamp,
         np.array([sensor_pose.x, sensor_pose.y]),
@@ -200,6 +210,15 @@ def scan_observation(
         starts,
         ends,
     )
+
+
+def _placed(pose: Pose2D, px: NDArray[np.float64], py: NDArray[np.float64]) -> NDArray[np.float64]:
+    """`pose.transform_points` of the points (px, py), without stacking them first."""
+    c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+    out = np.empty((len(px), 2))
+    out[:, 0] = c * px - s * py + pose.x
+    out[:, 1] = s * px + c * py + pose.y
+    return out
 
 
 def trace_cells(
@@ -213,55 +232,97 @@ def trace_cells(
     Ends are pulled back onto the map along their ray (as Nav2 does); a line visits
     one cell per step along its major axis, like Bresenham's. `origin` must be on the map.
     """
+    flat = trace_flat(costmap, origin, starts, ends)
+    ys, xs = np.divmod(flat, costmap.size_x)
+    return ys.astype(np.int64, copy=False), xs.astype(np.int64, copy=False)
+
+
+def trace_flat(
+    costmap: Costmap2D,
+    origin: NDArray[np.float64],
+    starts: NDArray[np.float64],
+    ends: NDArray[np.float64],
+) -> NDArray[np.intp]:
+    """`trace_cells` as flat indices `my * size_x + mx` (in the same order)."""
     if len(ends) == 0:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return np.zeros(0, np.intp)
     res = costmap.resolution
+    ny, nx = costmap.costs.shape
     lo = np.array([costmap.origin_x, costmap.origin_y])
-    hi = lo + np.array(costmap.size_in_meters) - 1e-6 * res
+    hi = lo + np.array([nx * res, ny * res]) - 1e-6 * res
+    # x and y as separate columns throughout (no reductions along a short axis)
+    (o_x, o_y), (lo_x, lo_y) = origin, lo
+    (up_x, up_y), (down_x, down_y) = hi - origin, lo - origin
     d = ends - origin
-    # Largest t in [0, 1] keeping origin + t*d inside [lo, hi] on both axes.
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_hi = np.where(d > 0, (hi - origin) / d, np.inf)
-        t_lo = np.where(d < 0, (lo - origin) / d, np.inf)
-    t = np.clip(np.minimum(t_hi, t_lo).min(axis=1), 0.0, 1.0)
-    ends = origin + t[:, None] * d
+    dx, dy = d[:, 0], d[:, 1]
+    # Largest t in [0, 1] keeping origin + t*d inside [lo, hi] on both axes (each bound
+    # divided only where the ray heads for it: inf elsewhere).
+    m = len(dx)
+    t = np.divide(up_x, dx, out=np.full(m, np.inf), where=dx > 0)
+    np.minimum(t, np.divide(down_x, dx, out=np.full(m, np.inf), where=dx < 0), out=t)
+    np.minimum(t, np.divide(up_y, dy, out=np.full(m, np.inf), where=dy > 0), out=t)
+    np.minimum(t, np.divide(down_y, dy, out=np.full(m, np.inf), where=dy < 0), out=t)
+    t = np.clip(t, 0.0, 1.0)
     starts_t = np.einsum("ij,ij->i", starts - origin, d) / np.maximum(
         np.einsum("ij,ij->i", d, d), 1e-300
     )
     valid = starts_t <= t  # the start is still before the (clipped) end
+    if not valid.all():
+        t, dx, dy, starts = t[valid], dx[valid], dy[valid], starts[valid]
     # Continuous cell coordinates, sampled at most one cell apart along the major axis
     # (so no cell on the line is skipped), then floored: a DDA over every beam at once.
-    # x and y are handled as flat arrays (repeats, not fancy indexing: fewer passes).
-    f0 = (starts[valid] - lo) / res
-    f1 = (ends[valid] - lo) / res
-    df = f1 - f0
-    span = np.abs(df).max(axis=1)
-    n = np.maximum(
-        np.ceil(span).astype(np.int64),
-        np.abs(np.floor(f1) - np.floor(f0)).max(axis=1).astype(np.int64),
-    )
+    f0x = (starts[:, 0] - lo_x) / res
+    f0y = (starts[:, 1] - lo_y) / res
+    f1x = (o_x + t * dx - lo_x) / res
+    f1y = (o_y + t * dy - lo_y) / res
+    dfx, dfy = f1x - f0x, f1y - f0y
+    span = np.maximum(np.abs(dfx), np.abs(dfy))
+    cells = np.maximum(np.abs(np.floor(f1x) - np.floor(f0x)), np.abs(np.floor(f1y) - np.floor(f0y)))
+    n = np.maximum(np.ceil(span).astype(np.int64), cells.astype(np.int64))
+    if n.size == 0:
+        return np.zeros(0, np.intp)
     reps = n + 1
     total = int(reps.sum())
-    k = np.arange(total) - np.repeat(np.cumsum(reps) - reps, reps)
-    frac = k / np.repeat(np.maximum(n, 1), reps)
-    fx = np.repeat(f0[:, 0], reps)
-    fx += frac * np.repeat(df[:, 0], reps)
-    fy = np.repeat(f0[:, 1], reps)
-    fy += frac * np.repeat(df[:, 1], reps)
-    np.floor(fx, out=fx)
-    np.floor(fy, out=fy)
-    inside = (fx >= 0) & (fx < costmap.size_x) & (fy >= 0) & (fy < costmap.size_y)
-    return fy[inside].astype(np.int64), fx[inside].astype(np.int64)
+    longest = int(n.max())
+    if len(n) * (longest + 1) <= 2 * total + 4096:
+        # One row per beam, one column per step k = 0 .. max(n) (k <= n[i] are the beam's
+        # samples): broadcasting instead of repeating, in the same row-major order.
+        k = np.arange(longest + 1)
+        frac = k.astype(np.float64) / np.maximum(n, 1).astype(np.float64)[:, None]
+        fx = frac * dfx[:, None]
+        fx += f0x[:, None]
+        fy = frac * dfy[:, None]
+        fy += f0y[:, None]
+        keep = (k <= n[:, None]).ravel()
+        fx, fy = fx.ravel(), fy.ravel()
+    else:
+        # A few beams much longer than the rest: one flat run of samples per beam instead.
+        k = np.arange(total) - np.repeat(np.cumsum(reps) - reps, reps)
+        frac = k / np.repeat(np.maximum(n, 1), reps)
+        fx = np.repeat(f0x, reps)
+        fx += frac * np.repeat(dfx, reps)
+        fy = np.repeat(f0y, reps)
+        fy += frac * np.repeat(dfy, reps)
+        keep = None
+    ix = np.floor(fx, out=fx).astype(np.intp)
+    iy = np.floor(fy, out=fy).astype(np.intp)
+    # 0 <= i < size as one unsigned test (a negative index wraps to a huge one)
+    inside = ix.view(np.uintp) < nx
+    inside &= iy.view(np.uintp) < ny
+    if keep is not None:
+        inside &= keep
+    iy *= nx
+    iy += ix
+    return iy[inside]
 
 
-def _set_cells(
-    costs: NDArray[np.uint8], ys: NDArray[np.int64], xs: NDArray[np.int64], value: int
-) -> None:
-    """`costs[ys, xs] = value`, through flat indices when the grid is contiguous (a scan
+def _set_flat(costs: NDArray[np.uint8], flat: NDArray[np.intp], value: int) -> None:
+    """`costs.flat[flat] = value`, through a flat view when the grid is contiguous (a scan
     clears thousands of cells, often the same ones: 1D indexing is several times faster)."""
     if costs.flags.c_contiguous:
-        costs.reshape(-1)[ys * costs.shape[1] + xs] = value
+        costs.reshape(-1)[flat] = value
     else:
+        ys, xs = np.divmod(flat, costs.shape[1])
         costs[ys, xs] = value
 
 
@@ -350,9 +411,9 @@ class ObstacleLayer(CostmapLayer):
         for obs in self._observations("clearing"):
             if np.any(obs.origin < lo) or np.any(obs.origin >= hi):
                 continue  # Nav2: a sensor origin off the map cannot raytrace
-            ys, xs = trace_cells(grid, obs.origin, obs.ray_starts, obs.ray_ends)
-            _set_cells(grid.costs, ys, xs, FREE_SPACE)
-            if len(ys):
+            flat = trace_flat(grid, obs.origin, obs.ray_starts, obs.ray_ends)
+            _set_flat(grid.costs, flat, FREE_SPACE)
+            if len(flat):
                 bounds.touch_points(obs.ray_ends)
                 bounds.touch(float(obs.origin[0]), float(obs.origin[1]))
         if self.marks_allowed():

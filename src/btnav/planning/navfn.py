@@ -26,7 +26,6 @@ The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
 
 from __future__ import annotations
 
-import hashlib
 import math
 from array import array
 from collections.abc import Callable
@@ -88,7 +87,7 @@ class GridGraph:
         self.indptr = np.arange(0, _K * n + 1, _K, dtype=np.int32)
         #: Doublings of the detour allowance the last search from this graph needed.
         self.doublings = 0
-        self._cache_key: bytes | None = None
+        self._cache_costs: NDArray[np.uint8] | None = None
         self._cache: csr_matrix | None = None
 
     def weights(
@@ -100,60 +99,99 @@ class GridGraph:
         With a heuristic `h` (ny, nx), the weights are reduced by it (A*'s
         `w(u, v) + h(v) - h(u)`, clipped at 0 against rounding)."""
         ny, nx = self.shape
-        pad = np.full((ny + 4, nx + 4), np.inf)
-        inner = pad[2:-2, 2:-2]
-        np.copyto(inner, costarr)
-        np.copyto(inner, np.inf, where=costarr >= COST_OBS)
-        blocked = np.isinf(pad)
-        if h is not None:
-            hpad = np.zeros((ny + 4, nx + 4))  # off-grid weights are inf whatever h adds
-            hpad[2:-2, 2:-2] = h
+        out = np.empty((ny, nx, _K))
         # computed offset by offset on contiguous planes of a block of rows (small enough
         # to stay in cache), then laid out as CSR rows
-        out = np.empty((ny, nx, _K))
         rows = max(1, min(ny, 16384 // max(nx, 1)))
-        blk = np.empty((_K, rows, nx))
         for y0 in range(0, ny, rows):
             y1 = min(ny, y0 + rows)
-            r = y1 - y0
-
-            def at(dy: int, dx: int, a: NDArray[np.float64] = pad) -> NDArray[np.float64]:
-                return a[2 + y0 + dy : 2 + y1 + dy, 2 + dx : 2 + dx + nx]  # noqa: B023
-
-            for k, (dy, dx) in enumerate(_OFFSETS):
-                w = blk[k, :r]
-                if abs(dy) + abs(dx) == 1:
-                    np.copyto(w, at(dy, dx))
-                elif abs(dy) == abs(dx):
-                    np.multiply(at(dy, dx), SQRT2, out=w)
-                    # no corner cutting: both cells beside the diagonal must be passable
-                    np.copyto(w, np.inf, where=at(dy, 0, blocked) | at(0, dx, blocked))
-                else:
-                    # a knight's move crosses two cells on its way into a third
-                    sy, sx = int(np.sign(dy)), int(np.sign(dx))
-                    np.add(at(sy, 0) if abs(dy) == 2 else at(0, sx), at(sy, sx), out=w)
-                    w += at(dy, dx)
-                    w *= SQRT5 / 3.0
-                if h is not None:
-                    w += at(dy, dx, hpad)
-                    w -= at(0, 0, hpad)
-            if h is not None:
-                np.maximum(blk[:, :r], 0.0, out=blk[:, :r])  # rounding: h is consistent
-            out[y0:y1] = blk[:, :r].transpose(1, 2, 0)
+            out[y0:y1] = _weight_block(costarr, h, y0, y1, 0, nx)
         return out.reshape(-1)
 
     def cached_graph(self, costarr: NDArray[np.uint8]) -> csr_matrix:
-        """The graph of `costarr`'s own weights, rebuilt only when the costs change
-        (a planner server replans on a mostly unchanged global costmap)."""
-        key = hashlib.blake2b(costarr.tobytes(), digest_size=16).digest()
-        if self._cache_key != key:
-            self._cache_key, self._cache = key, self.graph(self.weights(costarr))
+        """The graph of `costarr`'s own weights, updated only where the costs changed
+        (a planner server replans on a mostly unchanged global costmap): a weight depends
+        only on the cells within two of its own, so the rows and columns of each changed
+        stretch of rows, two cells wider, are recomputed (the same values a full rebuild
+        gives them)."""
+        ny, nx = self.shape
+        cached = self._cache_costs
+        if self._cache is None or cached is None or cached.shape != costarr.shape:
+            self._cache = self.graph(self.weights(costarr))
+            self._cache_costs = costarr.copy()
+            return self._cache
+        changed = costarr != cached
+        rows = np.flatnonzero(changed.any(axis=1))
+        if rows.size == 0:
+            return self._cache
+        data = self._cache.data.reshape(ny, nx, _K)
+        # stretches of changed rows less than 5 apart are done together
+        breaks = np.flatnonzero(np.diff(rows) > 4)
+        firsts = np.r_[rows[0], rows[breaks + 1]].tolist()
+        lasts = np.r_[rows[breaks], rows[-1]].tolist()
+        for r0, r1 in zip(firsts, lasts, strict=True):
+            cols = np.flatnonzero(changed[r0 : r1 + 1].any(axis=0))
+            y0, y1 = max(r0 - 2, 0), min(r1 + 3, ny)
+            x0, x1 = max(int(cols[0]) - 2, 0), min(int(cols[-1]) + 3, nx)
+            data[y0:y1, x0:x1] = _weight_block(costarr, None, y0, y1, x0, x1)
+        np.copyto(cached, costarr)
         return self._cache
 
     def graph(self, weights: NDArray[np.float64]) -> csr_matrix:
         """The CSR graph of these weights (an infinite weight is never relaxed: no edge)."""
         n = self.indptr.size - 1
         return csr_matrix((weights, self.indices, self.indptr), shape=(n, n))
+
+
+def _weight_block(
+    costarr: NDArray[np.uint8],
+    h: NDArray[np.float64] | None,
+    y0: int,
+    y1: int,
+    x0: int,
+    x1: int,
+) -> NDArray[np.float64]:
+    """The (y1 - y0, x1 - x0, _K) edge weights of cells [y0, y1) x [x0, x1) (see
+    `GridGraph.weights`), from the cells within two of them (off-grid cells are blocked)."""
+    ny, nx = costarr.shape
+    r, c = y1 - y0, x1 - x0
+    # the block and a margin of two cells, padded with inf (blocked) off the grid
+    pad = np.full((r + 4, c + 4), np.inf)
+    sy0, sy1, sx0, sx1 = max(y0 - 2, 0), min(y1 + 2, ny), max(x0 - 2, 0), min(x1 + 2, nx)
+    src = costarr[sy0:sy1, sx0:sx1]
+    inner = pad[sy0 - y0 + 2 : sy1 - y0 + 2, sx0 - x0 + 2 : sx1 - x0 + 2]
+    np.copyto(inner, src)
+    np.copyto(inner, np.inf, where=src >= COST_OBS)
+    blocked = np.isinf(pad)
+    hpad = None
+    if h is not None:
+        hpad = np.zeros((r + 4, c + 4))  # off-grid weights are inf whatever h adds
+        hpad[sy0 - y0 + 2 : sy1 - y0 + 2, sx0 - x0 + 2 : sx1 - x0 + 2] = h[sy0:sy1, sx0:sx1]
+
+    def at(dy: int, dx: int, a: NDArray[np.float64] = pad) -> NDArray[np.float64]:
+        return a[2 + dy : 2 + dy + r, 2 + dx : 2 + dx + c]
+
+    blk = np.empty((_K, r, c))
+    for k, (dy, dx) in enumerate(_OFFSETS):
+        w = blk[k]
+        if abs(dy) + abs(dx) == 1:
+            np.copyto(w, at(dy, dx))
+        elif abs(dy) == abs(dx):
+            np.multiply(at(dy, dx), SQRT2, out=w)
+            # no corner cutting: both cells beside the diagonal must be passable
+            np.copyto(w, np.inf, where=at(dy, 0, blocked) | at(0, dx, blocked))
+        else:
+            # a knight's move crosses two cells on its way into a third
+            sy, sx = int(np.sign(dy)), int(np.sign(dx))
+            np.add(at(sy, 0) if abs(dy) == 2 else at(0, sx), at(sy, sx), out=w)
+            w += at(dy, dx)
+            w *= SQRT5 / 3.0
+        if hpad is not None:
+            w += at(dy, dx, hpad)
+            w -= at(0, 0, hpad)
+    if hpad is not None:
+        np.maximum(blk, 0.0, out=blk)  # rounding: h is consistent
+    return blk.transpose(1, 2, 0)
 
 
 def _search(graph: csr_matrix, source: int, limit: float = np.inf) -> NDArray[np.float64]:
@@ -316,10 +354,15 @@ def extract_path(
     dx, dy = from_xy[0] - fx, from_xy[1] - fy
     xs: list[float] = []
     ys: list[float] = []
+    high = POT_HIGH
+    floor = math.floor
     for i in range(max_cycles):
         if i % 1000 == 999:
             _check(cancel_checker)
-        nearest = min(max(stc + _c_round(dx) + nx * _c_round(dy), 0), ns - 1)
+        # _c_round(dx), _c_round(dy), inlined
+        rx = floor(dx + 0.5) if dx >= 0 else -floor(-dx + 0.5)
+        ry = floor(dy + 0.5) if dy >= 0 else -floor(-dy + 0.5)
+        nearest = min(max(stc + rx + nx * ry, 0), ns - 1)
         if pot[nearest] < COST_NEUTRAL:
             xs.append(float(to_cell[0]))
             ys.append(float(to_cell[1]))
@@ -329,21 +372,34 @@ def extract_path(
         xs.append(stc % nx + dx)
         ys.append(stc // nx + dy)
         oscillating = len(xs) > 2 and xs[-1] == xs[-3] and ys[-1] == ys[-3]
-        ring = (
-            stc - nx - 1, stc - nx, stc - nx + 1,
-            stc - 1, stc + 1,
-            stc + nx - 1, stc + nx, stc + nx + 1,
-        )  # fmt: skip
-        if oscillating or pot[stc] >= POT_HIGH or any(pot[k] >= POT_HIGH for k in ring):
+        up, down = stc - nx, stc + nx
+        if (
+            oscillating
+            or pot[stc] >= high
+            or pot[up - 1] >= high
+            or pot[up] >= high
+            or pot[up + 1] >= high
+            or pot[stc - 1] >= high
+            or pot[stc + 1] >= high
+            or pot[down - 1] >= high
+            or pot[down] >= high
+            or pot[down + 1] >= high
+        ):
+            ring = (up - 1, up, up + 1, stc - 1, stc + 1, down - 1, down, down + 1)
             best, best_pot = stc, pot[stc]
             for k in ring:
                 if pot[k] < best_pot:
                     best, best_pot = k, pot[k]
             stc, dx, dy = best, 0.0, 0.0
-            if best_pot >= POT_HIGH:
+            if best_pot >= high:
                 return None
             continue
-        g00, g10, g01, g11 = grad(stc), grad(stc + 1), grad(stc + nx), grad(stc + nx + 1)
+        # grad(n), from its cache when there (a gradient is a non-empty tuple: truthy)
+        get = grads.get
+        g00 = get(stc) or grad(stc)
+        g10 = get(stc + 1) or grad(stc + 1)
+        g01 = get(down) or grad(down)
+        g11 = get(down + 1) or grad(down + 1)
         x = (1 - dy) * ((1 - dx) * g00[0] + dx * g10[0]) + dy * ((1 - dx) * g01[0] + dx * g11[0])
         y = (1 - dy) * ((1 - dx) * g00[1] + dx * g10[1]) + dy * ((1 - dx) * g01[1] + dx * g11[1])
         if x == 0.0 and y == 0.0:
