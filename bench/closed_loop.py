@@ -37,6 +37,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 
+from btnav.control.regulated_pure_pursuit import NAV2_DOCS_SECTION as RPP  # noqa: E402
 from btnav.navigators import Navigator  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -46,34 +47,6 @@ MAP = REPO / "maps" / "small_office.yaml"
 TOUR = [(3.0, 2.0, 1.57), (6.0, 3.0, 0.0), (9.0, 1.5, 0.0), (2.5, 6.5, 3.14)]
 TIMEOUT = 600.0
 TARGETS = {"mppi": 5.0, "rpp": 100.0}
-
-#: Nav2's documented Regulated Pure Pursuit section (docs.nav2.org), as the tests use it.
-RPP = {
-    "plugin": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
-    "desired_linear_vel": 0.5,
-    "lookahead_dist": 0.6,
-    "min_lookahead_dist": 0.3,
-    "max_lookahead_dist": 0.9,
-    "lookahead_time": 1.5,
-    "rotate_to_heading_angular_vel": 1.8,
-    "transform_tolerance": 0.1,
-    "use_velocity_scaled_lookahead_dist": False,
-    "min_approach_linear_velocity": 0.05,
-    "approach_velocity_scaling_dist": 0.6,
-    "use_collision_detection": True,
-    "max_allowed_time_to_collision_up_to_carrot": 1.0,
-    "use_regulated_linear_velocity_scaling": True,
-    "use_fixed_curvature_lookahead": False,
-    "curvature_lookahead_dist": 0.25,
-    "use_cost_regulated_linear_velocity_scaling": False,
-    "regulated_linear_scaling_min_radius": 0.9,
-    "regulated_linear_scaling_min_speed": 0.25,
-    "use_rotate_to_heading": True,
-    "allow_reversing": False,
-    "rotate_to_heading_min_angle": 0.785,
-    "max_angular_accel": 3.2,
-    "max_robot_pose_search_dist": 10.0,
-}
 
 #: The shares printed, in this order; a profile label goes to the first whose test holds.
 COMPONENTS = [

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from btnav.control.regulated_pure_pursuit import NAV2_DOCS_SECTION as RPP
 from btnav.core.error_codes import ComputePathToPoseError
 from btnav.core.geometry import Pose2D
 from btnav.costmap.cost_values import LETHAL_OBSTACLE
@@ -14,7 +15,6 @@ from btnav.nav import GoalStatus
 
 from .navstack_helpers import (
     DWB,
-    RPP,
     follow,
     office,
     params_with_controller,

@@ -71,6 +71,36 @@ def curvature_to(x: float, y: float) -> float:
     return 2.0 * y / d2 if d2 > 1e-3 else 0.0
 
 
+#: Nav2's documented FollowPath section for this controller (docs.nav2.org), for a
+#: params file that swaps it in (the tests and bench/closed_loop.py do).
+NAV2_DOCS_SECTION: dict[str, object] = {
+    "plugin": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
+    "desired_linear_vel": 0.5,
+    "lookahead_dist": 0.6,
+    "min_lookahead_dist": 0.3,
+    "max_lookahead_dist": 0.9,
+    "lookahead_time": 1.5,
+    "rotate_to_heading_angular_vel": 1.8,
+    "transform_tolerance": 0.1,
+    "use_velocity_scaled_lookahead_dist": False,
+    "min_approach_linear_velocity": 0.05,
+    "approach_velocity_scaling_dist": 0.6,
+    "use_collision_detection": True,
+    "max_allowed_time_to_collision_up_to_carrot": 1.0,
+    "use_regulated_linear_velocity_scaling": True,
+    "use_fixed_curvature_lookahead": False,
+    "curvature_lookahead_dist": 0.25,
+    "use_cost_regulated_linear_velocity_scaling": False,
+    "regulated_linear_scaling_min_radius": 0.9,
+    "regulated_linear_scaling_min_speed": 0.25,
+    "use_rotate_to_heading": True,
+    "allow_reversing": False,
+    "rotate_to_heading_min_angle": 0.785,
+    "max_angular_accel": 3.2,
+    "max_robot_pose_search_dist": 10.0,
+}
+
+
 @register(
     "controller",
     "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
