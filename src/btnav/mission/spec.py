@@ -29,7 +29,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, field_validator, model_validator
+from pydantic import AfterValidator, BeforeValidator, Field, model_validator
 
 from ..core.errors import BtnavError
 from ..core.validation import StrictModel, validate
@@ -51,7 +51,7 @@ def _finite(v: tuple[float, float, float]) -> tuple[float, float, float]:
     return v
 
 
-Pose = Annotated[tuple[float, float, float], BeforeValidator(_pose)]
+Pose = Annotated[tuple[float, float, float], BeforeValidator(_pose), AfterValidator(_finite)]
 Poses = Annotated[list[Pose], Field(min_length=1)]
 
 #: Tasks the brief names that btnav cannot run yet.
@@ -65,16 +65,6 @@ class TaskSpec(StrictModel):
     navigate_through_poses: Poses | None = None
     follow_waypoints: Poses | None = None
     explore: dict[str, Any] | None = None
-
-    @field_validator("navigate_to_pose")
-    @classmethod
-    def _finite_pose(cls, v: Any) -> Any:
-        return None if v is None else _finite(v)
-
-    @field_validator("navigate_through_poses", "follow_waypoints")
-    @classmethod
-    def _finite_poses(cls, v: Any) -> Any:
-        return None if v is None else [_finite(p) for p in v]
 
     @model_validator(mode="after")
     def _exactly_one(self) -> TaskSpec:
@@ -109,15 +99,12 @@ class MissionSpec(StrictModel):
     initial_pose: Pose | None = None
     tree: str | None = None
     task: TaskSpec
-    time_limit: float = Field(600.0, gt=0.0, description="sim seconds before the task is canceled")
+    time_limit: float = Field(
+        600.0, gt=0.0, allow_inf_nan=False, description="sim seconds before the task is canceled"
+    )
     seed: int = Field(0, ge=0)
     outputs: list[str] = Field(default_factory=lambda: list(DEFAULT_OUTPUTS))
     plugins: list[str] = Field(default_factory=list)
-
-    @field_validator("initial_pose")
-    @classmethod
-    def _finite_start(cls, v: Any) -> Any:
-        return None if v is None else _finite(v)
 
 
 def _apply_overrides(doc: YamlMap, overrides: Mapping[str, Any]) -> tuple[YamlMap, list[str]]:
