@@ -23,7 +23,7 @@ class PathTracker:
         self._path: Path | None = None
         self._index = 0
         self._seg_len = np.zeros(0)
-        self._remaining = np.zeros(0)  # length from each pose to the end
+        self._along = np.zeros(0)  # length from the first pose to each pose
 
     def set_path(self, path: Path) -> None:
         if path is self._path:
@@ -33,7 +33,7 @@ class PathTracker:
         xy = path.poses[:, :2]
         d = xy[1:] - xy[:-1]
         self._seg_len = np.hypot(d[:, 0], d[:, 1])
-        self._remaining = np.concatenate([np.cumsum(self._seg_len[::-1])[::-1], [0.0]])
+        self._along = np.concatenate([[0.0], np.cumsum(self._seg_len)])
 
     def track(self, pose: Pose2D) -> tuple[int, float, float, float]:
         """(index of the closest segment's first pose, signed cross-track error,
@@ -48,10 +48,9 @@ class PathTracker:
             return 0, math.hypot(pose.x - x, pose.y - y), heading, 0.0
         start = min(self._index, len(path) - 2)
         # the segments starting within search_dist (along the path) of the last closest one
-        ahead = self._remaining[start] - self._remaining[start:]
-        stop = min(
-            start + max(1, int(np.searchsorted(ahead, self.search_dist, "right"))), len(path) - 1
-        )
+        along = self._along
+        reach = int(along.searchsorted(along[start] + self.search_dist, "right"))
+        stop = min(max(start + 1, reach), len(path) - 1)
         a = poses[start:stop, :2]
         seg = poses[start + 1 : stop + 1, :2] - a
         lengths = self._seg_len[start:stop]
@@ -67,5 +66,5 @@ class PathTracker:
         side = sx * rel[k, 1] - sy * rel[k, 0]  # > 0: left of the segment's direction
         error = float(dist[k]) if side >= 0 else -float(dist[k])
         heading = float(normalize_angle(pose.yaw - math.atan2(sy, sx)))
-        remaining = float(self._remaining[i + 1] + lengths[k] * (1.0 - t[k]))
+        remaining = float(along[-1] - along[i] - lengths[k] * t[k])
         return i, error, heading, remaining
