@@ -131,22 +131,21 @@ class _BtNode(PortsMixin):
     # the results, errors and type checks are py_trees' own. With the blackboard's
     # activity stream on, py_trees' path runs so every access is still recorded.
 
-    def _port_slots(self, outputs: bool) -> dict[str, _PortSlot | None]:
-        client = self._blackboard_client
-        cache = self.__dict__.get("_btnav_ports")
-        if cache is None or cache[0] is not client:
-            cache = (client, {}, {})
-            self.__dict__["_btnav_ports"] = cache
-        return cache[2] if outputs else cache[1]
+    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
+        super().setup_ports(*args, **kwargs)
+        # a new blackboard client: its ports are resolved anew
+        self.__dict__["_btnav_ports"] = ({}, {})
 
-    def _resolve_port(self, port_name: str, outputs: bool) -> _PortSlot | None:
+    def _slot(self, port_name: str, outputs: bool) -> _PortSlot | None:
         """The port's slot, or None when py_trees' path must run (undeclared, unregistered,
         a nested name, or an output the client may not write)."""
-        slots = self._port_slots(outputs)
-        try:
-            return slots[port_name]
-        except KeyError:
-            pass
+        cache = self.__dict__.get("_btnav_ports")
+        if cache is None:
+            cache = self.__dict__["_btnav_ports"] = ({}, {})
+        slots = cache[outputs]
+        slot = slots.get(port_name, _MISSING)
+        if slot is not _MISSING:
+            return slot
         slot = None
         ports = self.output_ports() if outputs else self.input_ports()
         client = self._blackboard_client
@@ -159,12 +158,13 @@ class _BtNode(PortsMixin):
             key = client.remappings.get(absolute) if registered else None
             if key is not None:
                 slot = _PortSlot(key, ports[port_name])
-        slots[port_name] = slot
+        if client is not None:  # before setup_ports, nothing is cached
+            slots[port_name] = slot
         return slot
 
     def get_input(self, port_name: str, default: Any = None) -> Any:
         if Blackboard.activity_stream is None:
-            slot = self._resolve_port(port_name, False)
+            slot = self._slot(port_name, False)
             if slot is not None:
                 value = Blackboard.storage.get(slot.key, _MISSING)
                 if value is _MISSING:
@@ -185,7 +185,7 @@ class _BtNode(PortsMixin):
 
     def _set_output(self, port_name: str, value: Any) -> None:
         if Blackboard.activity_stream is None:
-            slot = self._resolve_port(port_name, True)
+            slot = self._slot(port_name, True)
             if slot is not None and slot.type_ok(value):
                 Blackboard.storage[slot.key] = value
                 return
