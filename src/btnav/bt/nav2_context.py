@@ -65,10 +65,7 @@ INFINITY = NumericLimitsInfinity()
 
 def recovery_count() -> int:
     """Nav2's `number_recoveries` (0 when no recovery has run)."""
-    try:
-        return int(py_trees.blackboard.Blackboard.get(RECOVERIES_KEY))
-    except KeyError:
-        return 0
+    return int(py_trees.blackboard.Blackboard.storage.get(RECOVERIES_KEY) or 0)
 
 
 def increment_recovery_count() -> None:

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..bt.nav2_context import recovery_count
 from ..core.messages import Path
 from ..navigators.bt_navigator import blackboard_value
-
-RECOVERIES = "number_recoveries"
 
 
 class NavigationCounters:
@@ -36,7 +35,7 @@ class NavigationCounters:
             self._goal_recoveries = 0
             self._path = self._seen  # the last goal's path, still on the blackboard
             self._planned = False
-        count = int(blackboard_value(RECOVERIES, 0) or 0)
+        count = recovery_count()
         if count > self._goal_recoveries:
             self.recoveries += count - self._goal_recoveries
             self._goal_recoveries = count

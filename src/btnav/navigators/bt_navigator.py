@@ -32,7 +32,7 @@ from pydantic import Field
 
 from ..bt import load_tree
 from ..bt.bundled import find_tree
-from ..bt.nav2_context import RECOVERIES_KEY
+from ..bt.nav2_context import RECOVERIES_KEY, recovery_count
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
 from ..core.errors import PluginError
 from ..core.geometry import Pose2D
@@ -255,7 +255,7 @@ class Navigator(ActionServer[Any]):
             current_pose=pose,
             navigation_time=now - self.start_time,
             estimated_time_remaining=eta,
-            number_of_recoveries=int(blackboard_value(RECOVERIES_KEY.strip("/"), 0) or 0),
+            number_of_recoveries=recovery_count(),
             distance_remaining=remaining,
         )
 
