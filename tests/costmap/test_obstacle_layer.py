@@ -79,6 +79,42 @@ def test_ranges_limit_marking_and_clearing(scan_of, tree_at) -> None:
     assert cm.costmap.cost_at([[1.3, 0.0]])[0] == NO_INFORMATION  # beyond raytrace_max_range
 
 
+def _behind(near, far):
+    """A scan that sees `near` where it has returns and `far` elsewhere."""
+    ranges = np.where(np.isfinite(near.ranges), near.ranges, far.ranges).astype(np.float32)
+    near.ranges = ranges
+    return near
+
+
+def test_an_obstacle_too_far_to_mark_is_not_cleared_while_seen(scan_of, tree_at) -> None:
+    # Nav2's ranges: marks to 2.5 m, clears to 3 m. Walking away from a door seen at
+    # 1 m, the door must stay in the costmap once it is 2.5-3 m away (Nav2 issue 5476).
+    cm = obstacle_costmap(obstacle_max_range=2.5, raytrace_max_range=3.0)
+    cm.update(None, [scan_of(1.01)], tree_at(), now=0.0)
+    door = lethal_xy(cm)
+    for step, x in enumerate((-1.0, -1.7, -1.9), start=1):  # 2.0, 2.7 and 2.9 m away
+        cm.update(None, [scan_of(1.01 - x)], tree_at(x, 0.0, 0.0), now=float(step))
+        assert (cm.costmap.cost_at(door) == LETHAL_OBSTACLE).all(), f"door lost from x = {x}"
+    # Beyond marking range a beam still frees space it has not seen as an obstacle.
+    assert cm.costmap.cost_at([[-1.9 + 2.8, 0.7]])[0] == NO_INFORMATION  # no beam went there
+    cm.update(None, [scan_of(5.0, half_width=3.0)], tree_at(-1.9, 0.0, 0.0), now=4.0)
+    assert cm.costmap.cost_at([[-1.9 + 2.8, 0.7]])[0] == FREE_SPACE
+
+
+def test_an_obstacle_that_left_is_cleared_within_marking_range_only(scan_of, tree_at) -> None:
+    cm = obstacle_costmap(obstacle_max_range=2.5, raytrace_max_range=3.0)
+    cm.update(None, [scan_of(1.01)], tree_at(), now=0.0)  # a wall |y| <= 0.5 at 1 m
+    gone = [[1.025, 0.4]]  # its end, which leaves: the beams there now reach 4 m
+    assert cm.costmap.cost_at(gone)[0] == LETHAL_OBSTACLE
+    shorter = _behind(scan_of(2.71, half_width=0.25), scan_of(4.7, half_width=2.0))
+    cm.update(None, [shorter], tree_at(-1.7, 0.0, 0.0), now=1.0)  # 2.7 m away
+    assert cm.costmap.cost_at(gone)[0] == LETHAL_OBSTACLE  # seen too far to judge
+    shorter = _behind(scan_of(1.51, half_width=0.25), scan_of(3.5, half_width=2.0))
+    cm.update(None, [shorter], tree_at(-0.5, 0.0, 0.0), now=2.0)  # 1.5 m away
+    assert cm.costmap.cost_at(gone)[0] == FREE_SPACE
+    assert cm.costmap.cost_at([[1.025, 0.0]])[0] == LETHAL_OBSTACLE  # what is left stays
+
+
 def test_no_return_clears_only_when_inf_is_valid(scan_of, tree_at) -> None:
     for valid, behind in ((False, NO_INFORMATION), (True, FREE_SPACE)):
         cm = obstacle_costmap(inf_is_valid=valid)

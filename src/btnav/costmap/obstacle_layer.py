@@ -7,7 +7,19 @@ clearing observation first frees the cells along its beams (from
 `raytrace_min_range` to the reading, at most `raytrace_max_range`), then every
 marking observation marks its end points closer than `obstacle_max_range` (and not
 closer than `obstacle_min_range`) as LETHAL; finally the robot's footprint is
-cleared (`footprint_clearing_enabled`). REP-117 values: `+inf` (no return) clears
+cleared (`footprint_clearing_enabled`).
+
+Two departures keep an obstacle the lidar still sees in the costmap. Nav2 traces each
+beam up to and including its return's cell and clears everything it passes out to
+`raytrace_max_range`; with Nav2's own params (`obstacle_max_range` 2.5 <
+`raytrace_max_range` 3.0) an obstacle 2.5-3 m away can only be cleared, never marked,
+and beams grazing its face (a 5 cm cell is finer than where odometry puts a scan)
+wipe it out. A door that closed behind the robot vanishes as the robot walks away,
+the planner sends it back, the door reappears at 2.5 m, and the robot dithers at the
+doorway (Nav2 issue 5476). So here (1) a beam clears LETHAL cells only as far as it
+may mark them (`obstacle_max_range`; beyond, out to `raytrace_max_range`, it frees
+unknown and inflated cells only), and (2) a beam never frees the cells within one
+cell of a return of its own scan. REP-117 values: `+inf` (no return) clears
 up to the scanner's range when the source has `inf_is_valid` and is skipped
 otherwise; it never marks. `-inf` and NaN are skipped. All beams of a scan are
 traced at once: one numpy array of cells for the whole scan.
@@ -123,7 +135,10 @@ class Observation:
     origin: NDArray[np.float64]  # (2,)
     marks: NDArray[np.float64]  # (N, 2)
     ray_starts: NDArray[np.float64]  # (M, 2)
-    ray_ends: NDArray[np.float64]  # (M, 2)
+    ray_ends: NDArray[np.float64]  # (M, 2): up to obstacle_max_range, clearing anything
+    far_starts: NDArray[np.float64]  # (F, 2): beyond it, out to raytrace_max_range,
+    far_ends: NDArray[np.float64]  # (F, 2): clearing all but LETHAL cells
+    returns: NDArray[np.float64]  # (K, 2): the beams' returns within raytrace_max_range
 
 
 _DIRECTIONS: dict[tuple[float, float, int], tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
@@ -152,7 +167,7 @@ class _PendingObservation(Observation):
     worked out when first read: a layer that updates less often than the lidar scans
     keeps only the latest scan (no `observation_persistence`), so most are never read."""
 
-    _fields = ("origin", "marks", "ray_starts", "ray_ends")
+    _fields = ("origin", "marks", "ray_starts", "ray_ends", "far_starts", "far_ends", "returns")
 
     def __init__(self, scan: LaserScan, sensor_pose: Pose2D, source: ObservationSource) -> None:
         self.stamp = scan.stamp
@@ -196,19 +211,26 @@ def scan_observation(
     else:
         ok = finite
         length = r[ok]
+    returned = finite[ok] & (length <= source.raytrace_max_range)
     length = np.minimum(length, source.raytrace_max_range)
     start = source.raytrace_min_range
     keep = length > start
     cs, ss = c[ok][keep], s[ok][keep]
     length = length[keep]
+    near = np.minimum(length, max(source.obstacle_max_range, start))
+    far = length > near
     starts = _placed(sensor_pose, start * cs, start * ss)
-    ends = _placed(sensor_pose, length * cs, length * ss)
+    ends = _placed(sensor_pose, near * cs, near * ss)
+    far_ends = _placed(sensor_pose, length[far] * cs[far], length[far] * ss[far])
     return Observation(
         scan.stamp if stamp is None else stamp,
         np.array([sensor_pose.x, sensor_pose.y]),
         marks,
         starts,
         ends,
+        ends[far],
+        far_ends,
+        _placed(sensor_pose, length * cs, length * ss)[returned[keep]],
     )
 
 
@@ -316,6 +338,21 @@ def trace_flat(
     return iy[inside]
 
 
+_NEIGHBOURS = np.array([(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
+
+
+def _return_cells(
+    grid: Costmap2D, returns: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """(my, mx) of the cells within one cell of a scan's returns (on the map)."""
+    m, _ = grid.world_to_map(returns)
+    ny, nx = grid.costs.shape
+    ys = (m[:, 1, None] + _NEIGHBOURS[:, 0]).ravel()
+    xs = (m[:, 0, None] + _NEIGHBOURS[:, 1]).ravel()
+    inside = (xs.view(np.uint64) < nx) & (ys.view(np.uint64) < ny)
+    return ys[inside], xs[inside]
+
+
 def _set_flat(costs: NDArray[np.uint8], flat: NDArray[np.intp], value: int) -> None:
     """`costs.flat[flat] = value`, through a flat view when the grid is contiguous (a scan
     clears thousands of cells, often the same ones: 1D indexing is several times faster)."""
@@ -411,8 +448,16 @@ class ObstacleLayer(CostmapLayer):
         for obs in self._observations("clearing"):
             if np.any(obs.origin < lo) or np.any(obs.origin >= hi):
                 continue  # Nav2: a sensor origin off the map cannot raytrace
+            held = _return_cells(grid, obs.returns)
+            saved = grid.costs[held]  # what a scan sees is not free (see the module doc)
             flat = trace_flat(grid, obs.origin, obs.ray_starts, obs.ray_ends)
             _set_flat(grid.costs, flat, FREE_SPACE)
+            far = trace_flat(grid, obs.origin, obs.far_starts, obs.far_ends)
+            if len(far):
+                far = far[grid.costs.reshape(-1)[far] != LETHAL_OBSTACLE]
+                _set_flat(grid.costs, far, FREE_SPACE)
+                bounds.touch_points(obs.far_ends)
+            grid.costs[held] = saved
             if len(flat):
                 bounds.touch_points(obs.ray_ends)
                 bounds.touch(float(obs.origin[0]), float(obs.origin[1]))
