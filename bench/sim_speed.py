@@ -9,6 +9,9 @@
 (c) with the `bench` extra (IR-SIM installed), the same world and robot in IR-SIM
     (a diff-drive robot with a 360-beam lidar, same rates, no rendering), run in this
     process; btnav's speed is printed as a ratio of IR-SIM's.
+(d) the runtime's profiling hook (`runtime.profile = {}`): the share of a profiled
+    run's wall time that its parts (physics, odometry, lidar, a component, a scan
+    subscriber) account for. Target: at least half (the rest is the loop), at most all.
 
 numpy runs single-threaded in both, for a fair one-core comparison.
 """
@@ -351,6 +354,58 @@ def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_office_scans: float)
     _line("btnav / IR-SIM, scans per second in small_office", btnav_office_scans / scan_rate, "x")
 
 
+# -- (d) the runtime's profile covers most of a step ------------------------------------
+
+PROFILE_COVERAGE_TARGET = 0.5
+
+
+class _Component:
+    """A 20 Hz component that does nothing: its label must still get its share."""
+
+    rate = 20.0
+    name = "idle"
+
+    def update(self, now: float) -> None:
+        pass
+
+
+class _ScanCounter:
+    """A scan subscriber (profiled under its owner, `_ScanCounter/scans`)."""
+
+    name = "scans"
+
+    def __init__(self) -> None:
+        self.count = 0
+
+    def on_scan(self, scan: object) -> None:
+        self.count += 1
+
+
+def bench_profile_coverage(sim_seconds: float) -> None:
+    from btnav.nav.runtime import Runtime
+
+    rt = Runtime(World.from_file(SMALL_OFFICE, seed=0), seed=0)
+    rt.add(_Component())
+    rt.subscribe("scan", _ScanCounter().on_scan)
+    rt.set_cmd_vel(CIRCLE)
+    rt.spin_for(0.5)  # warm-up
+    rt.profile = {}
+    t0 = time.perf_counter()
+    rt.spin_for(sim_seconds)
+    wall = time.perf_counter() - t0
+    covered = sum(rt.profile.values()) / wall
+    print(
+        f"(d) the runtime's profile: {sim_seconds:g} sim s of small_office, "
+        f"{len(rt.profile)} parts ({', '.join(sorted(rt.profile))})"
+    )
+    ok = PROFILE_COVERAGE_TARGET <= covered <= 1.0
+    print(
+        f"  {'share of wall time the parts account for':<44s} {covered:>10.1%}          "
+        f"target {PROFILE_COVERAGE_TARGET:>6.0%}..100%  ratio "
+        f"{covered / PROFILE_COVERAGE_TARGET:5.2f} {'ok' if ok else 'OUTSIDE TARGET'}"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=60.0, help="sim seconds for (a) and (c)")
@@ -369,6 +424,7 @@ def main(argv: list[str] | None = None) -> int:
     rtf = bench_world(args.seconds)
     _, office_scans = bench_scans(args.scans)
     bench_irsim(args.seconds, rtf, office_scans)
+    bench_profile_coverage(min(args.seconds, 10.0))
     return 0
 
 

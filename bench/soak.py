@@ -46,11 +46,30 @@ def rss_mib() -> float:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--hours", type=float, default=1.0, help="sim hours (1.0)")
-    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap = argparse.ArgumentParser(
+        prog="python bench/soak.py",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument(
+        "--hours",
+        type=float,
+        default=1.0,
+        help="how many hours of sim time to run the tours for (default 1.0, about 10 min of "
+        "wall time at 6x real time); more than a minute, since the memory at the end is "
+        "compared with that after the first minute",
+    )
+    ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a param or mission key, as `btnav run --set` does; repeatable",
+    )
     args = ap.parse_args()
     limit = args.hours * 3600.0
+    if not limit > FIRST_MINUTE:
+        ap.error(f"--hours must be more than a minute ({FIRST_MINUTE / 3600:.4f} h)")
 
     mission = Mission.load(TOUR, overrides=dict(parse_set_option(s) for s in args.set))
     nav = mission.navigator()

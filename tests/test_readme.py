@@ -42,3 +42,38 @@ def test_readme_navigation_example_reaches_the_goal_untouched():
 def test_readme_navigator_example_succeeds():
     out = run_example(3).split()
     assert out[0] == "succeeded" and out[1] == "0" and out[-1] == "0"
+
+
+def printed_after(marker: str) -> list[str]:
+    """The lines of the first ``` block after the README line holding `marker`."""
+    text = (REPO / "README.md").read_text()
+    block = re.search(re.escape(marker) + r".*?```\n(.*?)```", text, re.S)
+    assert block, f"no block after {marker!r} in README.md"
+    return block.group(1).splitlines()
+
+
+WALL = re.compile(r" in [0-9.]+ s wall \([0-9.]+x real time\)")
+
+
+@pytest.mark.slow
+def test_readme_demo_line_is_what_the_demo_prints(tmp_path, capsys):
+    from btnav.cli import main
+
+    claimed = printed_after("It prints one line")[0]
+    assert main(["run", str(REPO / "missions" / "office_tour.yaml"), "--out", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out.splitlines()[0]
+    assert WALL.sub("", printed) == WALL.sub("", claimed), (
+        "README.md's demo line is stale: run the demo and paste what it prints"
+    )
+
+
+def test_readme_params_check_example_is_what_params_check_prints(tmp_path, capsys, monkeypatch):
+    from btnav.cli import main
+
+    command, claimed = printed_after("and the command exits 2:")[:2]
+    name = command.split()[-1]
+    nav2 = (REPO / "params" / "nav2_params.yaml").read_text()
+    (tmp_path / name).write_text(nav2.replace("controller_frequency: 20.0", "controller_frequncy: 20.0"))
+    monkeypatch.chdir(tmp_path)
+    assert main(command.split()[2:]) == 2  # "$ btnav params check FILE"
+    assert capsys.readouterr().err.strip() == claimed

@@ -1,18 +1,22 @@
 """`btnav ...`: the command line.
 
-A user's mistake prints one line (file:line: key: message (did you mean ...?)) and
-exits 2; `--debug` shows the traceback instead. Each command's work lives in the
-layer it belongs to; this file only parses arguments and maps results to exit codes.
+A user's mistake prints one line (`btnav: error: file:line: key: message (did you mean
+...?)`) and exits 2; `--debug` shows the traceback instead. A likely mistake that does
+not stop the command (a `BtnavWarning`) prints `btnav: warning: file:line: ...` once.
+Each command's work lives in the layer it belongs to; this file only parses arguments
+and maps results to exit codes.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from collections.abc import Callable, Sequence
+from typing import TextIO
 
 from . import __version__
-from .core.errors import BtnavError
+from .core.errors import ERROR_PREFIX, WARNING_PREFIX, BtnavError, BtnavWarning
 
 EXIT_OK, EXIT_FAILED, EXIT_USER_ERROR = 0, 1, 2
 
@@ -54,29 +58,42 @@ def _frames_of_world(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _overrides(args: argparse.Namespace) -> dict[str, object]:
+def _overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str, str]]:
+    """The `--set` values by key, and each key's option as typed (errors about it name that)."""
     from .params.updates import parse_set_option
 
-    return dict(parse_set_option(text) for text in args.set or ())
+    values: dict[str, object] = {}
+    origins: dict[str, str] = {}
+    for text in args.set or ():
+        try:
+            key, value = parse_set_option(text)
+        except BtnavError as err:
+            raise err.located(file=f"--set {text}") from None
+        values[key] = value
+        origins[key] = f"--set {text}"
+    return values, origins
 
 
 def _run(args: argparse.Namespace) -> int:
     from .mission.run_cli import run_main
 
-    return run_main(args.mission, out=args.out, seed=args.seed, overrides=_overrides(args))
+    overrides, origins = _overrides(args)
+    return run_main(
+        args.mission, out=args.out, seed=args.seed, overrides=overrides, origins=origins
+    )
 
 
 def _frames_of_mission(args: argparse.Namespace) -> int:
     from .mission.frames import frames_main
 
-    return frames_main(args.mission, _overrides(args))
+    return frames_main(args.mission, *_overrides(args))
 
 
 class _Parser(argparse.ArgumentParser):
     """Usage mistakes exit 2 with one line, like every other user error."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        self.exit(EXIT_USER_ERROR, f"btnav: error: {message}\n(see '{self.prog} --help')\n")
+        self.exit(EXIT_USER_ERROR, f"{ERROR_PREFIX}{message} (see '{self.prog} --help')\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -145,19 +162,48 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _warning_printer(python_show: Callable[..., None]) -> Callable[..., None]:
+    """`warnings.showwarning` for a command: a `BtnavWarning` is one line, `btnav: warning:
+    file:line: ...`; any other warning is shown as Python (`python_show`) would."""
+
+    def show(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None:
+        if issubclass(category, BtnavWarning):
+            print(f"{WARNING_PREFIX}{message}", file=file or sys.stderr)
+        else:
+            python_show(message, category, filename, lineno, file, line)
+
+    return show
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     func: Callable[[argparse.Namespace], int] = args.func
-    try:
-        return func(args)
-    except BtnavError as err:
-        if args.debug:
-            raise
-        print(f"btnav: error: {err}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    except KeyboardInterrupt:
-        return 130
+    with warnings.catch_warnings():
+        warnings.simplefilter("default", BtnavWarning)  # each distinct warning once
+        warnings.showwarning = _warning_printer(warnings.showwarning)
+        try:
+            return func(args)
+        except BtnavError as err:
+            if args.debug:
+                raise
+            print(f"{ERROR_PREFIX}{err}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        except OSError as err:  # a folder or file of the user's that cannot be written or read
+            if args.debug:
+                raise
+            where = f"{err.filename}: " if err.filename else ""
+            print(f"{ERROR_PREFIX}{where}{err.strerror or err}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        except KeyboardInterrupt:
+            return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -186,6 +186,45 @@ def test_structure_errors() -> None:
     assert "invalid XML" in str(error_of("<root><BehaviorTree ID='A'><Sequence></root>"))
 
 
+@pytest.mark.parametrize(
+    "typed, hint",
+    [
+        ("navigate_w_replanning_time.json", "a tree file ends in .yaml, .yml, .xml"),
+        ("navigate_w_replanning_time.yaml.bak", "a tree file ends in .yaml, .yml, .xml"),
+        ("elsewhere/navigate_w_replanning_time.yaml", "no folder"),
+        ("elsewhere/navigate_w_replanning_time.xml", "no folder"),
+    ],
+)
+def test_a_bundled_trees_name_with_a_wrong_suffix_or_folder_is_not_suggested_back(
+    typed: str, hint: str
+) -> None:
+    """`did you mean 'navigate_w_replanning_time'?` after typing that name reads as nonsense:
+    the message says what to change instead."""
+    from btnav.bt.bundled import find_tree
+
+    with pytest.raises(UnknownNodeError) as info:
+        find_tree(typed)
+    err = info.value
+    assert err.suggestion is None and "did you mean" not in str(err)
+    assert err.message.endswith(
+        "to use the bundled tree of that name, write its bare name "
+        f"'navigate_w_replanning_time' ({hint})"
+    )
+
+
+def test_tree_suggestions_are_close_names_never_the_typed_one() -> None:
+    from btnav.bt.bundled import find_tree
+
+    with pytest.raises(UnknownNodeError) as info:
+        find_tree("navigate_w_replanning_tim")
+    assert info.value.suggestion == "navigate_w_replanning_time"
+    with pytest.raises(UnknownNodeError) as info:
+        find_tree("elsewhere/navigate_w_replaning_time.yaml")
+    assert info.value.suggestion == "navigate_w_replanning_time"
+    # Surrounding spaces (a quoted YAML value, a shell argument) do not hide a bundled name.
+    assert find_tree(" navigate_w_replanning_time ").stem == "navigate_w_replanning_time"
+
+
 def test_time_nodes_need_a_clock() -> None:
     root = load_tree("Delay: {delay_msec: 10, child: AlwaysSuccess}")
     with pytest.raises(RuntimeError, match="clock"):

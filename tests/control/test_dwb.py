@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -91,15 +90,17 @@ def test_params_flat_critic_keys_as_nav2_writes_them():
     assert lookup("critic", "dwb_critics::PathAlign").__name__ == "PathAlignCritic"
 
 
-def test_cycle_time_20x40():
+def test_20x40_samples_give_a_forward_command_every_cycle():
+    # Its time per cycle against the 20 Hz period is in bench/controllers.py.
     ctrl = DWBLocalPlanner(params=DWBParams(vx_samples=20, vtheta_samples=40))
     ctrl.set_plan(curved_path())
     cm = free_costmap(8.0)
-    ctrl.compute_velocity_commands(Pose2D(0.3, 0.0, 0.0), Twist(linear_x=0.2), cm)
-    t0 = time.perf_counter()
-    for _ in range(20):
+    cmds = [
         ctrl.compute_velocity_commands(Pose2D(0.3, 0.0, 0.0), Twist(linear_x=0.2), cm)
-    assert (time.perf_counter() - t0) / 20 < 0.05  # one 20 Hz control period
+        for _ in range(3)
+    ]
+    assert all(math.isfinite(c.linear_x) and math.isfinite(c.angular_z) for c in cmds)
+    assert all(c.linear_x > 0.0 for c in cmds)
 
 
 @pytest.mark.parametrize(

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -106,7 +105,8 @@ def test_collision_ahead_raises():
         ctrl.compute_velocity_commands(Pose2D(), Twist(linear_x=0.5), cm)
 
 
-def test_registered_and_fast():
+def test_registered_under_nav2s_name_and_drives_forward():
+    # Its time per cycle against a 10 ms target is in bench/controllers.py.
     assert (
         lookup(
             "controller", "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController"
@@ -117,7 +117,6 @@ def test_registered_and_fast():
     ctrl = RPP()
     ctrl.set_plan(curved_path())
     cm = free_costmap()
-    t0 = time.perf_counter()
-    for _ in range(50):
-        ctrl.compute_velocity_commands(Pose2D(0.5, 0.0, 0.0), Twist(linear_x=0.4), cm)
-    assert (time.perf_counter() - t0) / 50 < 0.01
+    cmd = ctrl.compute_velocity_commands(Pose2D(0.5, 0.0, 0.0), Twist(linear_x=0.4), cm)
+    assert math.isfinite(cmd.linear_x) and math.isfinite(cmd.angular_z)
+    assert cmd.linear_x > 0.0

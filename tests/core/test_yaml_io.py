@@ -48,7 +48,68 @@ def test_object_and_custom_tags_are_refused(text):
 def test_syntax_error_names_the_line():
     with pytest.raises(YamlError) as info:
         load_yaml_text("a: 1\nb: [1, 2\nc: 3\n", "bad.yaml")
-    assert info.value.line in (2, 3) and "bad.yaml" in str(info.value)
+    assert info.value.line == 2 and "bad.yaml" in str(info.value)
+
+
+PARAMS_HEAD = """\
+controller_server:
+  ros__parameters:
+    controller_frequency: 20.0
+    min_x_velocity_threshold: 0.001
+    progress_checker_plugins: ["progress_checker"]
+    goal_checker_plugins: ["general_goal_checker"]
+    controller_plugins: ["FollowPath"]
+"""
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (  # a list whose ']' is missing: PyYAML notices on the next line
+            '["progress_checker"]',
+            '["progress_checker"',
+            "invalid YAML: the '[' opened on this line is not closed "
+            "(expected ',' or ']', but got '<scalar>' at line 6)",
+        ),
+        (  # a quote that never closes: PyYAML notices at the end of the file
+            'controller_plugins: ["FollowPath"]',
+            'controller_plugins: ["FollowPath]',
+            "invalid YAML: the quote opened on this line is not closed "
+            "(found unexpected end of stream)",
+        ),
+        (  # a line indented too far
+            "    min_x_velocity_threshold",
+            "      min_x_velocity_threshold",
+            "invalid YAML: mapping values are not allowed here "
+            "(is this line indented too far, or does it hold an unquoted ': '?)",
+        ),
+        (  # a line indented too little
+            "    min_x_velocity_threshold",
+            "   min_x_velocity_threshold",
+            "invalid YAML: expected <block end>, but found '<block mapping start>' "
+            "(check the indentation of this line)",
+        ),
+        (  # no space after the colon: the text runs on into the next key
+            "controller_frequency: 20.0",
+            "controller_frequency:20.0",
+            "invalid YAML: the text on this line runs on into line 4 "
+            "(a key needs ': ', a colon and a space, before its value)",
+        ),
+        (  # a tab in the indentation
+            "    min_x_velocity_threshold",
+            "\tmin_x_velocity_threshold",
+            "invalid YAML: found character '\\t' that cannot start any token "
+            "(YAML indents with spaces, not tabs)",
+        ),
+    ],
+)
+def test_a_syntax_error_names_the_broken_line_not_the_next(old, new, message):
+    assert old in PARAMS_HEAD
+    broken = PARAMS_HEAD.replace(old, new, 1)
+    line = next(n for n, text in enumerate(broken.splitlines(), 1) if new in text)
+    with pytest.raises(YamlError) as info:
+        load_yaml_text(broken, "my_params.yaml")
+    assert str(info.value) == f"my_params.yaml:{line}: {message}"
 
 
 def test_duplicate_key_names_both_lines():

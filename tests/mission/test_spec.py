@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import pytest
 
-from btnav.core.errors import BtnavError, FrameError, ParamsError
+from btnav.core.errors import BtnavError, BtnavWarning, FrameError, ParamsError
 from btnav.mission import Mission, MissionError
 
-from .missions import MAP, TOUR, WORLD, write_mission
+from .missions import MAP, PARAMS, TOUR, WORLD, write_mission
 
 
 def error_of(path: Path, **kw) -> BtnavError:
@@ -131,15 +132,82 @@ def test_set_overrides_the_mission_and_the_params(tmp_path):
     assert inflation.inflation_radius == 0.4
     with pytest.raises(MissionError) as info:
         Mission.load(TOUR, overrides={"mission.time_limt": 3})
-    assert info.value.suggestion == "time_limit" and "--set" in info.value.message
+    assert info.value.suggestion == "time_limit" and info.value.file == "--set mission.time_limt=3"
     with pytest.raises(ParamsError) as info:
         Mission.load(TOUR, overrides={"controller_server.controller_frequncy": 3})
-    assert info.value.suggestion == "controller_frequency" and "--set" in info.value.message
+    assert info.value.suggestion == "controller_frequency"
+    assert info.value.file == "--set controller_server.controller_frequncy=3"
 
 
-def test_a_frame_the_params_name_must_be_in_the_robots_tree():
-    with pytest.raises(FrameError) as info:
-        Mission.load(TOUR, overrides={"bt_navigator.robot_base_frame": "base_lnk"}).navigator()
-    err = info.value
+def test_a_frame_the_params_name_must_be_in_the_robots_tree(tmp_path):
+    params = tmp_path / "params.yaml"
+    text = PARAMS.read_text()
+    params.write_text(text.replace("robot_base_frame: base_link", "robot_base_frame: base_lnk", 1))
+    line = text.splitlines().index("    robot_base_frame: base_link") + 1
+    path = write_mission(tmp_path, params=str(params), task={"navigate_to_pose": [3, 2]})
+    err = error_of(path)
+    assert isinstance(err, FrameError)
     assert err.key == "bt_navigator.robot_base_frame" and err.suggestion == "base_link"
-    assert err.file.endswith("nav2_params.yaml") and err.line == 46
+    assert err.file == str(params) and err.line == line
+
+
+def test_a_value_given_by_set_is_blamed_on_the_set_not_on_a_file_line():
+    """What `btnav run --set` prints: `--set KEY=VALUE: key: message`, no file line."""
+    err = error_of(TOUR, overrides={"bt_navigator.robot_base_frame": "base_lnk"})
+    assert isinstance(err, FrameError) and err.suggestion == "base_link"
+    assert str(err).startswith(
+        "--set bt_navigator.robot_base_frame=base_lnk: bt_navigator.robot_base_frame: "
+        "frame 'base_lnk' is not in the robot's frame tree"
+    )
+    assert err.line is None
+    # The option as typed, when the caller knows it (the CLI does).
+    err = error_of(
+        TOUR,
+        overrides={"controller_server.controller_frequency": -3.0},
+        origins={
+            "controller_server.controller_frequency": "--set controller_server.controller_frequency=-3.0"
+        },
+    )
+    assert isinstance(err, ParamsError) and err.line is None
+    assert str(err) == (
+        "--set controller_server.controller_frequency=-3.0: controller_server.controller_frequency:"
+        " Input should be greater than 0 (got -3.0)"
+    )
+    err = error_of(TOUR, overrides={"mission.tree": "navigate_w_replanning_tme"})
+    assert err.file == "--set mission.tree=navigate_w_replanning_tme" and err.key == "tree"
+    assert err.suggestion == "navigate_w_replanning_time"
+    err = error_of(TOUR, overrides={"mission.world": "no_world.yaml"})
+    assert err.file == "--set mission.world=no_world.yaml" and err.line is None
+    err = error_of(TOUR, overrides={"mission.initial_pose": [6.5, 1.2]})
+    assert err.file == "--set mission.initial_pose=[6.5, 1.2]" and "overlaps obstacles[3]" in str(
+        err
+    )
+    err = error_of(TOUR, seed=-1)
+    assert str(err).startswith("--seed -1: seed: ")
+
+
+def test_a_task_pose_in_an_obstacle_or_off_the_map_is_a_warning(tmp_path):
+    path = write_mission(
+        tmp_path, task={"follow_waypoints": [[3.0, 2.0], [6.5, 1.2, 0.0], [-3, 2]]}
+    )
+    lines = path.read_text().splitlines()
+    with pytest.warns(BtnavWarning) as caught:
+        Mission.load(path)
+    warned = [w.message for w in caught if isinstance(w.message, BtnavWarning)]
+    assert [(w.file, w.line, w.key) for w in warned] == [
+        (str(path), lines.index("  - - 6.5") + 1, "task.follow_waypoints[1]"),
+        (str(path), lines.index("  - - -3") + 1, "task.follow_waypoints[2]"),
+    ]
+    assert warned[0].message == (
+        f"task pose [6.5, 1.2, 0] is inside an obstacle of the map ({MAP}); "
+        "Nav2 will try it and fail"
+    )
+    assert warned[1].message.startswith(f"task pose [-3, 2, 0] is outside the map ({MAP} covers")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the demo's poses are all free
+        Mission.load(TOUR)
+    with pytest.warns(BtnavWarning) as caught:  # a pose given by --set is placed there
+        Mission.load(TOUR, overrides={"mission.task": {"navigate_to_pose": [6.5, 1.2]}})
+    assert str(caught[0].message).startswith(
+        '--set mission.task={"navigate_to_pose": [6.5, 1.2]}: task.navigate_to_pose: '
+    )

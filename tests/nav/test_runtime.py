@@ -211,9 +211,8 @@ def test_profile_is_off_by_default_and_a_profiled_run_is_the_same_run():
     assert np.array_equal(profiled.latest_scan.ranges, plain.latest_scan.ranges)
 
 
-def test_profile_shares_cover_each_part_and_sum_to_about_the_step_time():
-    import time
-
+def test_profile_has_a_share_for_each_part():
+    # How much of a step's wall time the parts cover is in bench/sim_speed.py.
     from btnav.nav.runtime import profile_label
 
     rt = make_runtime()
@@ -222,16 +221,11 @@ def test_profile_shares_cover_each_part_and_sum_to_about_the_step_time():
     rt.subscribe("scan", listener.on_scan)
     rt.spin_for(0.5)  # warm
     rt.profile = {}
-    t0 = time.perf_counter()
     rt.spin_for(2.0)
-    wall = time.perf_counter() - t0
     spent = rt.profile
     lidar = f"Lidar/{rt.sensors[0].frame_id}"
     assert {"physics", "odometry", lidar, "Counter/counter", "Listener/listener"} <= set(spent)
     assert profile_label(counter) == "Counter/counter"
     assert profile_label(listener.on_scan) == "Listener/listener"  # a subscriber: its owner
     assert all(v >= 0.0 for v in spent.values())
-    total = sum(spent.values())
-    assert total <= wall
-    assert total >= 0.5 * wall  # the parts are most of a step; the rest is the loop
     assert len(listener.scans) == 25 and len(counter.stamps) == 50

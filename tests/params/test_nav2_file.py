@@ -89,7 +89,7 @@ def test_check_main_returns_2_with_one_line_on_a_mistake(nav2_copy, capsys) -> N
     assert check_main(path) == 2
     err = capsys.readouterr().err.strip()
     assert err == (
-        f"error: {path}:{line}: controller_server.controller_frequncy: unknown key "
+        f"btnav: error: {path}:{line}: controller_server.controller_frequncy: unknown key "
         "'controller_frequncy' (did you mean 'controller_frequency'?)"
     )
 

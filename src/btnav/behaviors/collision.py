@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..costmap.cost_values import LETHAL_OBSTACLE
 from ..costmap.costmap_2d import Costmap2D
@@ -26,7 +27,7 @@ def _outline(footprint: NDArray[np.float64], step: float) -> NDArray[np.float64]
     b = np.roll(footprint, -1, axis=0)
     pts = []
     for (ax, ay), (bx, by) in zip(a, b, strict=True):
-        n = max(1, int(np.ceil(np.hypot(bx - ax, by - ay) / step)))
+        n = max(1, int(np.ceil(fmath.hypot(bx - ax, by - ay) / step)))
         t = np.arange(n) / n
         pts.append(np.stack([ax + t * (bx - ax), ay + t * (by - ay)], axis=1))
     return np.concatenate(pts) if pts else np.zeros((0, 2))
@@ -59,7 +60,7 @@ class CollisionChecker:
         p = np.asarray(poses, dtype=float).reshape(-1, 3)
         if self.to_costmap is not None:
             t = self.to_costmap()
-            c, s = np.cos(t.yaw), np.sin(t.yaw)
+            s, c = fmath.sincos(t.yaw)
             p = np.stack(
                 [
                     t.x + c * p[:, 0] - s * p[:, 1],
@@ -70,7 +71,7 @@ class CollisionChecker:
             )
         cm = self.costmap
         outline = _outline(np.asarray(self.costmap_ros.footprint, float), 0.5 * cm.resolution)
-        c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+        s, c = fmath.sincos(p[:, 2, None])
         xs = p[:, 0:1] + c * outline[None, :, 0] - s * outline[None, :, 1]
         ys = p[:, 1:2] + s * outline[None, :, 0] + c * outline[None, :, 1]
         m, inside = cm.world_to_map(np.stack([xs, ys], axis=-1))

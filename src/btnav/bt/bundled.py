@@ -55,6 +55,7 @@ def bundled_trees() -> dict[str, Path]:
 
 def _bare_name(name: str) -> str | None:
     """`name` without a known suffix, when it is a bare name (no folder part); else None."""
+    name = name.strip()
     if not name or "/" in name or "\\" in name:
         return None
     stem = name
@@ -84,14 +85,33 @@ def find_tree(name: str | PathLike[str], *, base_dir: str | PathLike[str] | None
             return trees[stem]
     if path.is_dir():
         raise TreeError("is a directory, not a tree file", file=path)
-    near = close_matches(stem or path.stem, [*trees, *ALIASES])
     known = ", ".join(trees) or "none"
     what = "no tree file" if stem is None else "no tree file or bundled tree"
+    typed = Path(text.strip()).name
+    same = _bundled_named_like(typed, trees)
+    if same is not None:
+        # A bundled tree's name with a folder or another suffix: a "did you mean" with
+        # that name would read as the very name they typed, so say what differs.
+        why = "no folder" if stem is None else f"a tree file ends in {', '.join(TREE_SUFFIXES)}"
+        raise UnknownNodeError(
+            f"{what} '{text}'; to use the bundled tree of that name, write its bare name "
+            f"'{same}' ({why})",
+            file=path if stem is None else None,
+        )
+    near = close_matches(stem or path.stem, [*trees, *ALIASES])
     raise UnknownNodeError(
         f"{what} '{text}'; bundled trees: {known}",
         file=path if stem is None else None,
         suggestion=near[0] if near else None,
     )
+
+
+def _bundled_named_like(typed: str, trees: dict[str, Path]) -> str | None:
+    """The bundled tree (or alias) whose name `typed` (a file name) starts with, up to a suffix."""
+    for tree in sorted([*trees, *ALIASES], key=len, reverse=True):
+        if typed == tree or typed.startswith(tree + "."):
+            return ALIASES.get(tree, tree)
+    return None
 
 
 # --- making trees/ from Nav2's files --------------------------------------------------

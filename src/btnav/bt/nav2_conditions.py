@@ -17,6 +17,7 @@ import numpy as np
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..core import fmath
 from ..core.error_codes import (
     ComputePathThroughPosesError,
     ComputePathToPoseError,
@@ -199,7 +200,9 @@ class IsGoalNearby(Nav2Leaf):
         begin = self.search_begin
         stop = integrated_index(poses, begin, search) if pruning else len(poses)
         window = poses[begin:stop]
-        closest = begin + int(np.argmin(np.hypot(window[:, 0] - robot.x, window[:, 1] - robot.y)))
+        closest = begin + int(
+            np.argmin(fmath.hypot(window[:, 0] - robot.x, window[:, 1] - robot.y))
+        )
         self.search_begin = closest
         return _status(length_from(poses, closest) < threshold)
 

@@ -28,6 +28,7 @@ import py_trees
 from py_trees.common import Status
 from py_trees.ports import NoDataAvailable
 
+from ..core import fmath
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
@@ -116,7 +117,7 @@ def integrated_index(poses: np.ndarray, start: int, distance: float) -> int:
     n = len(poses)
     if start >= n - 1 or not math.isfinite(distance):
         return n
-    seg = np.hypot(*np.diff(poses[start:, :2], axis=0).T)
+    seg = fmath.hypot(*np.diff(poses[start:, :2], axis=0).T)
     after = np.flatnonzero(np.cumsum(seg) > distance)
     return int(start + after[0] + 1) if after.size else n
 
@@ -125,7 +126,7 @@ def length_from(poses: np.ndarray, start: int) -> float:
     """nav2_util's `calculate_path_length(path, start)`."""
     if start >= len(poses) - 1:
         return 0.0
-    return float(np.hypot(*np.diff(poses[start:, :2], axis=0).T).sum())
+    return float(fmath.hypot(*np.diff(poses[start:, :2], axis=0).T).sum())
 
 
 class Nav2Leaf(LeafNode):

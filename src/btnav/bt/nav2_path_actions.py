@@ -12,6 +12,7 @@ import numpy as np
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff
 from ..core.messages import Path, PoseStamped
 from ..plugins import register
@@ -58,7 +59,7 @@ class TruncatePath(Nav2Leaf):
             return S
         poses = np.asarray(path.poses, float)
         end = poses[-1]
-        d = np.hypot(poses[:, 0] - end[0], poses[:, 1] - end[1])
+        d = fmath.hypot(poses[:, 0] - end[0], poses[:, 1] - end[1])
         keep = len(poses)
         distance = self.get_input("distance")
         while keep > 2 and d[keep - 1] < distance:

@@ -21,6 +21,7 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..behaviors.collision import CollisionChecker
+from ..core import fmath
 from ..core.errors import UnknownNameError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
@@ -213,7 +214,7 @@ class ValidatePath(BtServiceNode):
                 self.feedback_message = f"no costmap layer '{layer_name}' with a costmap"
                 return F
         poses = np.asarray(path.poses, float)
-        start = int(np.argmin(np.hypot(poses[:, 0] - robot.x, poses[:, 1] - robot.y)))
+        start = int(np.argmin(fmath.hypot(poses[:, 0] - robot.x, poses[:, 1] - robot.y)))
         end = len(poses)
         lookahead = self.get_input("max_lookahead_distance")
         if lookahead > 0.0:

@@ -1,7 +1,8 @@
 """`btnav tree import TREE.xml [-o TREE.yaml]` and `btnav tree show TREE`.
 
 Both raise a `BtnavError` for a user's mistake (the CLI prints it and exits 2) and
-return 0 otherwise.
+return 0 otherwise. `tree show` raises for any tree `btnav run` would refuse, with the
+same message, after showing what it can of it.
 """
 
 from __future__ import annotations
@@ -68,7 +69,7 @@ def tree_import_main(
         out.write(f"wrote {dst}: main tree {doc.main_tree}; trees: {trees}\n")
     if missing:
         err.write(
-            f"note: btnav has no node types {', '.join(missing)} yet; "
+            f"btnav: note: btnav has no node types {', '.join(missing)} yet; "
             "the tree loads once they are registered\n"
         )
     return EXIT_OK
@@ -83,10 +84,26 @@ def tree_show_main(
     base_dir: str | PathLike[str] | None = None,
     out: TextIO | None = None,
 ) -> int:
-    """Print the tree `tree` (a path, or the bare name of a bundled tree) with its ports."""
+    """Print the tree `tree` (a path, or the bare name of a bundled tree) with its ports.
+
+    A tree btnav cannot build (a node type it lacks, a misspelt port) is shown as
+    written, with `???` at the types btnav lacks, and then raises the error `btnav run`
+    gives for it, so both commands say the same and exit 2.
+    """
     out = out or sys.stdout
-    out.write(show_tree(find_tree(tree, base_dir=base_dir)))
+    path = find_tree(tree, base_dir=base_dir)
+    doc = load_document(path)
+    if unknown_node_types(doc, node_types()):
+        out.write(f"{_head(path, doc)}\n{structure_text(doc)}")
+        out.flush()
+        build_tree(load_document(path), clock=SimClock())  # raises what `btnav run` would
+        return EXIT_OK  # not reached while validation refuses unknown node types
+    out.write(show_tree(path))
     return EXIT_OK
+
+
+def _head(path: str | PathLike[str], doc: TreeDocument) -> str:
+    return f"{path}: main tree {doc.main_tree}" if doc.main_tree else f"{path}"
 
 
 def show_tree(path: str | PathLike[str]) -> str:
@@ -98,8 +115,7 @@ def show_tree(path: str | PathLike[str]) -> str:
     """
     doc = load_document(path)
     missing = unknown_node_types(doc, node_types())
-    main = doc.main_tree
-    head = f"{path}: main tree {main}" if main else f"{path}"
+    head = _head(path, doc)
     if missing:
         body = structure_text(doc)
         foot = (

@@ -17,6 +17,7 @@ from typing import ClassVar
 import numpy as np
 from pydantic import Field
 
+from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff
 from ..core.messages import Path, Twist
 from ..params.schema import ParamsModel
@@ -31,7 +32,7 @@ def path_length(path: Path | np.ndarray | None) -> float:
     if len(poses) < 2:
         return 0.0
     d = poses[1:, :2] - poses[:-1, :2]  # np.diff, without its overhead
-    return float(np.hypot(d[:, 0], d[:, 1]).sum())
+    return float(fmath.hypot(d[:, 0], d[:, 1]).sum())
 
 
 class GoalChecker:

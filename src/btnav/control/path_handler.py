@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
 
+from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff, compose_arrays
 from ..core.messages import Path
 from ..costmap.costmap_2d import Costmap2D
@@ -40,7 +41,7 @@ _CHUNK = 128
 def segment_lengths(poses: NDArray[np.float64]) -> NDArray[np.float64]:
     """Length of each segment poses[i] -> poses[i + 1] (what `integrated_index` sums)."""
     d = poses[1:, :2] - poses[:-1, :2]  # np.diff, without its overhead
-    return np.hypot(d[:, 0], d[:, 1])
+    return fmath.hypot(d[:, 0], d[:, 1])
 
 
 def integrated_index(
@@ -66,7 +67,7 @@ def integrated_index(
         j = min(i + size, n - 1)
         if seg is None:
             d = poses[i + 1 : j + 1, :2] - poses[i:j, :2]  # np.diff, without its overhead
-            lengths = np.hypot(d[:, 0], d[:, 1])
+            lengths = fmath.hypot(d[:, 0], d[:, 1])
         else:
             lengths = seg[i:j]
         if i != start:
@@ -148,12 +149,12 @@ def first_path_constraint(
     if n < 3:
         return n
     d = np.diff(poses[:, :2], axis=0)
-    trans = np.hypot(d[:, 0], d[:, 1])
+    trans = fmath.hypot(d[:, 0], d[:, 1])
     inversion = n
     if enforce_inversion:
         moving = np.flatnonzero(trans > _EPS_TRANS)
         if moving.size > 1:
-            dots = np.einsum("ij,ij->i", d[moving[1:]], d[moving[:-1]])
+            dots = fmath.dot_rows(d[moving[1:]], d[moving[:-1]])
             cusp = np.flatnonzero(dots < 0.0)
             if cusp.size:
                 inversion = int(moving[cusp[0] + 1]) + 1

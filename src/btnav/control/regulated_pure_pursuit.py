@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
+from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff, angles_in_range, normalize_angle
 from ..core.messages import Path, Twist
 from ..costmap.cost_values import FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
@@ -45,7 +46,7 @@ _DW = "used only by use_dynamic_window, which btnav's RPP does not implement yet
 def lookahead_point(local: NDArray[np.float64], dist: float) -> NDArray[np.float64]:
     """The point at `dist` from the robot (origin) on the robot-frame path, interpolated on the
     segment that crosses the circle; the last pose when the path ends inside the circle."""
-    r = np.hypot(local[:, 0], local[:, 1])
+    r = fmath.hypot(local[:, 0], local[:, 1])
     beyond = np.flatnonzero(r >= dist)
     if beyond.size == 0:
         return local[-1, :2].copy()
@@ -216,7 +217,7 @@ class RegulatedPurePursuitController(Controller):
         window = plan[:end]
         dx = window[:, 0] - x
         dy = window[:, 1] - y
-        far = np.flatnonzero(np.hypot(dx, dy) > extent)
+        far = np.flatnonzero(fmath.hypot(dx, dy) > extent)
         if far.size:
             k = max(int(far[0]), 1)
             window, dx, dy = window[:k], dx[:k], dy[:k]
@@ -377,9 +378,10 @@ class RegulatedPurePursuitController(Controller):
             return _arc_collides(costmap, pose, dt * linear, dt, angular, n, limit)
         k = np.arange(n)
         theta = pose.yaw + k * dt * angular  # heading before each step
-        x = pose.x + np.cumsum(dt * linear * np.cos(theta))
-        y = pose.y + np.cumsum(dt * linear * np.sin(theta))
-        inside = np.hypot(x - pose.x, y - pose.y) <= limit
+        sin, cos = fmath.sincos(theta)
+        x = pose.x + np.cumsum(dt * linear * cos)
+        y = pose.y + np.cumsum(dt * linear * sin)
+        inside = fmath.hypot(x - pose.x, y - pose.y) <= limit
         stop = np.flatnonzero(~inside)
         m = int(stop[0]) if stop.size else n
         if m == 0:
@@ -401,15 +403,16 @@ def _arc_collides(
     limit: float,
 ) -> bool:
     """The vectorised check of `_collision_imminent` for a short arc, one point at a time
-    (the same arithmetic: headings, running sums, distances, cells)."""
+    (the same arithmetic: headings, running sums, distances, cells; but math.cos/sin,
+    libm, where the vectorised check has fmath's, which may differ in the last bit)."""
     x0, y0, yaw = pose.x, pose.y, pose.yaw
     # costmap.cost_at_point, inlined
     costs = costmap.costs
     ny, nx = costs.shape
     ox, oy, res = costmap.origin_x, costmap.origin_y, costmap.resolution
-    # |(dx, dy)| <= limit as np.hypot decides it: squared distances clearly on one side
+    # |(dx, dy)| <= limit as fmath.hypot decides it: squared distances clearly on one side
     # decide without it (hypot is within an ulp, the squares within a few)
-    near, far = -1.0, math.inf  # (always np.hypot for extreme limits)
+    near, far = -1.0, math.inf  # (always fmath.hypot for extreme limits)
     if 1e-100 < limit < 1e100:
         near, far = limit * limit * (1.0 - 1e-9), limit * limit * (1.0 + 1e-9)
     sum_x = sum_y = 0.0
@@ -420,7 +423,7 @@ def _arc_collides(
         x, y = x0 + sum_x, y0 + sum_y
         dx, dy = x - x0, y - y0
         d2 = dx * dx + dy * dy
-        if not d2 <= near and (d2 > far or not np.hypot(dx, dy) <= limit):
+        if not d2 <= near and (d2 > far or not fmath.hypot(dx, dy) <= limit):
             return False  # the rest is beyond the carrot
         mx = math.floor((x - ox) / res)
         my = math.floor((y - oy) / res)

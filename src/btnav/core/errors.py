@@ -3,12 +3,17 @@
 A `BtnavError` says where the mistake is (file, line, key path) and, for a
 misspelt name, the closest valid spelling, so the CLI can print one line and exit 2.
 A navigation failure is never one of these: it is a result with Nav2's error code.
+A `BtnavWarning` is placed the same way, for what is probably a mistake but does not
+stop a run; the CLI prints each as one `btnav: warning:` line.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from os import PathLike
+
+#: How every line about a problem starts, wherever it is printed (the CLI, `check_main`).
+ERROR_PREFIX, WARNING_PREFIX = "btnav: error: ", "btnav: warning: "
 
 
 def format_key_path(key: str | Sequence[str | int] | None) -> str | None:
@@ -22,6 +27,19 @@ def format_key_path(key: str | Sequence[str | int] | None) -> str | None:
         else:
             out += f".{part}" if out else str(part)
     return out
+
+
+def format_place(
+    file: str | None, line: int | None, key: str | None, message: str, suggestion: str | None
+) -> str:
+    """`file:line: key.path: message (did you mean 'x'?)`, leaving out what is unknown."""
+    where = ""
+    if file:
+        where = file + (f":{line}" if line else "") + ": "
+    elif line:
+        where = f"line {line}: "
+    hint = f" (did you mean '{suggestion}'?)" if suggestion else ""
+    return f"{where}{f'{key}: ' if key else ''}{message}{hint}"
 
 
 class BtnavError(Exception):
@@ -47,14 +65,7 @@ class BtnavError(Exception):
         super().__init__(self.__str__())
 
     def __str__(self) -> str:
-        where = ""
-        if self.file:
-            where = self.file + (f":{self.line}" if self.line else "") + ": "
-        elif self.line:
-            where = f"line {self.line}: "
-        key = f"{self.key}: " if self.key else ""
-        hint = f" (did you mean '{self.suggestion}'?)" if self.suggestion else ""
-        return f"{where}{key}{self.message}{hint}"
+        return format_place(self.file, self.line, self.key, self.message, self.suggestion)
 
     def located(
         self,
@@ -104,3 +115,30 @@ class PluginError(UnknownNameError):
 
 class FrameError(UnknownNameError):
     """A frame missing from the frame tree; the message lists the frames that exist."""
+
+
+class BtnavWarning(UserWarning):
+    """Something in a user's files that is probably a mistake but does not stop a run
+    (a moving obstacle whose route goes through a wall, a goal inside an obstacle).
+
+    Raised with `warnings.warn(BtnavWarning(...))`, so the Python API shows it as any
+    warning and tests catch it with `pytest.warns`; the CLI prints each one once as
+    `btnav: warning: file:line: key: message`.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str | PathLike[str] | None = None,
+        line: int | None = None,
+        key: str | Sequence[str | int] | None = None,
+    ) -> None:
+        self.message = message
+        self.file = None if file is None else str(file)
+        self.line = line
+        self.key = format_key_path(key)
+        super().__init__(self.__str__())
+
+    def __str__(self) -> str:
+        return format_place(self.file, self.line, self.key, self.message, None)

@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import fmath
+
 TWO_PI = 2.0 * math.pi
 
 
@@ -151,7 +153,7 @@ def compose_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np
         yaw = ayaw + b[:, 2]
         out[:, 2] = yaw if angles_in_range(yaw) else normalize_angle(yaw)
         return out
-    c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
+    s, c = fmath.sincos(a[..., 2])
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 0] + c * b[..., 0] - s * b[..., 1]
     out[..., 1] = a[..., 1] + s * b[..., 0] + c * b[..., 1]

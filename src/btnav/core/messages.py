@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from . import fmath
 from .geometry import Pose2D
 
 
@@ -50,8 +51,8 @@ class LaserScan:
         """(N, 2) end points of the finite readings, in the sensor frame."""
         r = np.asarray(self.ranges, dtype=float)
         ok = np.isfinite(r)
-        a = self.angles[ok]
-        return np.stack([r[ok] * np.cos(a), r[ok] * np.sin(a)], axis=-1)
+        s, c = fmath.sincos(self.angles[ok])
+        return np.stack([r[ok] * c, r[ok] * s], axis=-1)
 
 
 @dataclass
@@ -102,7 +103,7 @@ class Path:
         if len(self) < 2:
             return 0.0
         d = self.poses[1:, :2] - self.poses[:-1, :2]  # np.diff, without its overhead
-        return float(np.hypot(d[:, 0], d[:, 1]).sum())
+        return float(fmath.hypot(d[:, 0], d[:, 1]).sum())
 
 
 @dataclass

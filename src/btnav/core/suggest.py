@@ -7,8 +7,11 @@ from collections.abc import Iterable
 
 
 def close_matches(name: str, candidates: Iterable[str], n: int = 3) -> list[str]:
-    """The candidates closest to `name`, best first; case and `-`/`_`/`::`/`/` differences count as equal."""
-    names = sorted(set(candidates))
+    """The candidates closest to `name`, best first; case and `-`/`_`/`::`/`/` differences count as equal.
+
+    `name` itself is never among them: "did you mean 'x'?" after typing x helps nobody.
+    """
+    names = sorted(set(candidates) - {name})
     if not names:
         return []
 

@@ -138,6 +138,80 @@ for _tag in ("binary", "omap", "pairs", "set"):
 _LineLoader.add_constructor(None, _LineLoader.construct_refused)
 
 
+#: PyYAML contexts whose mark is where the broken construct starts (an unclosed `[`, `{`
+#: or quote, a key without its `:`): the parser only notices the mistake later, often on
+#: the next line or at the end of the file, so the start is the line to fix.
+_OPENED_HERE = {
+    "while parsing a flow sequence": "the '[' opened on this line is not closed",
+    "while parsing a flow mapping": "the '{' opened on this line is not closed",
+    "while scanning a quoted scalar": "the quote opened on this line is not closed",
+    "while scanning a simple key": "the key on this line has no ':'",
+}
+#: PyYAML's terser problems (by a part of their text) and what usually causes them.
+_HINTS = {
+    "character '\\t' that cannot start any token": "YAML indents with spaces, not tabs",
+    "mapping values are not allowed here": (
+        "is this line indented too far, or does it hold an unquoted ': '?"
+    ),
+    "expected <block end>": "check the indentation of this line",
+}
+
+
+def _run_on_start(text: str, line: int) -> int | None:
+    """The line of a would-be key (`key:value`, no space) whose plain text ran on to `line`.
+
+    A value that runs on (`b: 1` then a line indented too far) is not one: the line
+    indented too far is the mistake there.
+    """
+    tokens: list[yaml.Token] = []
+    try:
+        for token in yaml.scan(text, Loader=_Base):
+            tokens.append(token)
+    except yaml.YAMLError:
+        pass
+    if not tokens or not isinstance(tokens[-1], yaml.ScalarToken) or not tokens[-1].plain:
+        return None
+    start = tokens[-1].start_mark.line + 1
+    before = tokens[-2] if len(tokens) > 1 else None
+    is_value = isinstance(before, yaml.ValueToken) and before.start_mark.line + 1 == start
+    return start if start < line and not is_value else None
+
+
+def syntax_error_place(
+    exc: yaml.MarkedYAMLError, text: str | None = None
+) -> tuple[int | None, str]:
+    """The line a user has to fix for a YAML syntax error (1-based) and what to tell them.
+
+    PyYAML marks where it noticed the problem, which for an unclosed bracket or quote
+    is the line after the broken one (or the end of the file); its context mark is
+    where the construct began. That start is used for the constructs in `_OPENED_HERE`;
+    block contexts mark the enclosing block, not the mistake, so the problem's mark is
+    kept for those, except when a plain scalar ran on from an earlier line (`key:value`
+    without the space), which `text` (the document) lets us see.
+    """
+    problem = exc.problem or exc.context or "invalid YAML"
+    problem_mark, context_mark = exc.problem_mark, exc.context_mark
+    opened = _OPENED_HERE.get(exc.context or "")
+    if opened is not None and context_mark is not None:
+        line = context_mark.line + 1
+        if problem_mark is None or problem_mark.line + 1 == line:
+            return line, problem
+        at_end = "end of stream" in problem
+        where = "" if at_end else f" at line {problem_mark.line + 1}"
+        return line, f"{opened} ({problem}{where})"
+    mark = problem_mark or context_mark
+    line = mark.line + 1 if mark is not None else None
+    if text is not None and line is not None and "mapping values are not allowed" in problem:
+        start = _run_on_start(text, line)
+        if start is not None:  # `key:value` (no space) runs on into the next key's line
+            return start, (
+                f"the text on this line runs on into line {line} "
+                "(a key needs ': ', a colon and a space, before its value)"
+            )
+    hint = next((h for text, h in _HINTS.items() if text in problem), None)
+    return line, f"{problem} ({hint})" if hint else problem
+
+
 def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -> Any:
     """Parse one YAML document; any problem becomes a `YamlError` with file and line."""
     name = None if file is None else str(file)
@@ -153,10 +227,8 @@ def load_yaml_text(text: str | bytes, file: str | PathLike[str] | None = None) -
     except YamlError:
         raise
     except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
-        problem = exc.problem or exc.context or "invalid YAML"
-        raise YamlError(f"invalid YAML: {problem}", file=name, line=line) from None
+        line, message = syntax_error_place(exc, text)
+        raise YamlError(f"invalid YAML: {message}", file=name, line=line) from None
     except yaml.reader.ReaderError as exc:
         raise YamlError(
             f"invalid YAML: {exc.reason} (character {exc.character!r})", file=name

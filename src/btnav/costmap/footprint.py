@@ -12,6 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from .costmap_2d import Costmap2D
 
@@ -22,7 +23,8 @@ RADIUS_VERTICES = 16
 def footprint_from_radius(radius: float) -> NDArray[np.float64]:
     """The 16-gon Nav2 uses for a circular robot (makeFootprintFromRadius)."""
     a = np.arange(RADIUS_VERTICES) * (2.0 * math.pi / RADIUS_VERTICES)
-    return np.stack([radius * np.cos(a), radius * np.sin(a)], axis=-1)
+    s, c = fmath.sincos(a)
+    return np.stack([radius * c, radius * s], axis=-1)
 
 
 def pad_footprint(footprint: ArrayLike, padding: float) -> NDArray[np.float64]:
@@ -36,17 +38,15 @@ def min_max_distances(footprint: ArrayLike) -> tuple[float, float]:
     fp = np.asarray(footprint, dtype=float).reshape(-1, 2)
     if len(fp) == 0:
         return 0.0, 0.0
-    vertex = np.hypot(fp[:, 0], fp[:, 1])
+    vertex = fmath.hypot(fp[:, 0], fp[:, 1])
     if len(fp) < 2:
         return float(vertex.min()), float(vertex.max())
     a, b = fp, np.roll(fp, -1, axis=0)
     ab = b - a
-    den = np.einsum("ij,ij->i", ab, ab)
-    t = np.clip(
-        np.where(den > 0, -np.einsum("ij,ij->i", a, ab) / np.where(den > 0, den, 1), 0), 0, 1
-    )
+    den = fmath.dot_rows(ab, ab)
+    t = np.clip(np.where(den > 0, -fmath.dot_rows(a, ab) / np.where(den > 0, den, 1), 0), 0, 1)
     closest = a + t[:, None] * ab
-    edge = np.hypot(closest[:, 0], closest[:, 1])
+    edge = fmath.hypot(closest[:, 0], closest[:, 1])
     return float(min(vertex.min(), edge.min())), float(vertex.max())
 
 
@@ -72,7 +72,7 @@ def polygon_cells(
     a = poly
     b = np.concatenate((poly[1:], poly[:1]))  # np.roll(poly, -1, axis=0)
     ab = b - a
-    n = np.maximum(np.ceil(np.hypot(ab[:, 0], ab[:, 1]) / (0.25 * res)).astype(int), 1)
+    n = np.maximum(np.ceil(fmath.hypot(ab[:, 0], ab[:, 1]) / (0.25 * res)).astype(int), 1)
     seg, t = _outline_steps(n)
     # its cells (costmap.world_to_map, x and y apart; 0 <= m < size as one unsigned test)
     mx = np.floor((a[seg, 0] + t * ab[seg, 0] - ox) / res).astype(np.int64)

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from pydantic import Field
 from scipy.ndimage import distance_transform_edt
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..plugins import register
 from .cost_values import (
@@ -35,7 +36,7 @@ def inflation_cost(
 ) -> NDArray[np.uint8]:
     """Nav2's computeCost on distances in metres (0 means the obstacle cell itself)."""
     d = np.asarray(distance_m, dtype=float)
-    factor = np.exp(-cost_scaling_factor * (d - inscribed_radius))
+    factor = fmath.exp(-cost_scaling_factor * (d - inscribed_radius))
     decayed = np.floor((INSCRIBED_INFLATED_OBSTACLE - 1) * np.minimum(factor, 1.0))
     cost = np.where(
         d == 0,

@@ -18,8 +18,8 @@ wipe it out. A door that closed behind the robot vanishes as the robot walks awa
 the planner sends it back, the door reappears at 2.5 m, and the robot dithers at the
 doorway (Nav2 issue 5476). So here (1) a beam clears LETHAL cells only as far as it
 may mark them (`obstacle_max_range`; beyond, out to `raytrace_max_range`, it frees
-unknown and inflated cells only), and (2) a beam never frees the cells within one
-cell of a return of its own scan. REP-117 values: `+inf` (no return) clears
+unknown and inflated cells only), and (2) no beam frees a cell that holds a return
+of its own scan. REP-117 values: `+inf` (no return) clears
 up to the scanner's range when the source has `inf_is_valid` and is skipped
 otherwise; it never marks. `-inf` and NaN are skipped. All beams of a scan are
 traced at once: one numpy array of cells for the whole scan.
@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
+from ..core import fmath
 from ..core.errors import FrameError
 from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
@@ -153,7 +154,8 @@ def _beam_directions(
     found = _DIRECTIONS.get(key)
     if found is None:
         a = angle_min + angle_increment * np.arange(n)
-        found = (np.cos(a), np.sin(a))
+        s, c = fmath.sincos(a)  # the same bits on every CPU (np.cos/np.sin: not)
+        found = (c, s)
         for v in found:
             v.setflags(write=False)
         if len(_DIRECTIONS) > 64:
@@ -285,9 +287,7 @@ def trace_flat(
     np.minimum(t, np.divide(up_y, dy, out=np.full(m, np.inf), where=dy > 0), out=t)
     np.minimum(t, np.divide(down_y, dy, out=np.full(m, np.inf), where=dy < 0), out=t)
     t = np.clip(t, 0.0, 1.0)
-    starts_t = np.einsum("ij,ij->i", starts - origin, d) / np.maximum(
-        np.einsum("ij,ij->i", d, d), 1e-300
-    )
+    starts_t = fmath.dot_rows(starts - origin, d) / np.maximum(fmath.dot_rows(d, d), 1e-300)
     valid = starts_t <= t  # the start is still before the (clipped) end
     if not valid.all():
         t, dx, dy, starts = t[valid], dx[valid], dy[valid], starts[valid]
@@ -338,19 +338,12 @@ def trace_flat(
     return iy[inside]
 
 
-_NEIGHBOURS = np.array([(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
-
-
 def _return_cells(
     grid: Costmap2D, returns: NDArray[np.float64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """(my, mx) of the cells within one cell of a scan's returns (on the map)."""
-    m, _ = grid.world_to_map(returns)
-    ny, nx = grid.costs.shape
-    ys = (m[:, 1, None] + _NEIGHBOURS[:, 0]).ravel()
-    xs = (m[:, 0, None] + _NEIGHBOURS[:, 1]).ravel()
-    inside = (xs.view(np.uint64) < nx) & (ys.view(np.uint64) < ny)
-    return ys[inside], xs[inside]
+    """(my, mx) of the cells holding a scan's returns (on the map)."""
+    m, inside = grid.world_to_map(returns)
+    return m[inside, 1], m[inside, 0]
 
 
 def _set_flat(costs: NDArray[np.uint8], flat: NDArray[np.intp], value: int) -> None:

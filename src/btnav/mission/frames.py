@@ -8,16 +8,18 @@ from .mission import Mission
 from .param_frames import check_frames, frame_params, missing_frames
 
 
-def frames_main(path: str, overrides: dict[str, Any] | None = None) -> int:
-    mission = Mission.load(path, overrides=overrides)
+def frames_main(
+    path: str, overrides: dict[str, Any] | None = None, origins: dict[str, str] | None = None
+) -> int:
+    mission = Mission.load(path, overrides=overrides, origins=origins)
     frames = mission.frame_tree()
     print(frames.describe())
     print(f"\nframes named in {mission.params.path}:")
-    missing = missing_frames(mission.params, frames)
-    for p in frame_params(mission.params):
+    missing = missing_frames(mission.params, frames, mission.set_by)
+    for p in frame_params(mission.params, mission.set_by):
         state = "MISSING" if p in missing else "ok"
         if not p.checked:
             state = "not checked (section ignored by btnav)"
-        print(f"  {p.key} = {p.frame} (line {p.line}): {state}")
-    check_frames(mission.params, frames)
+        print(f"  {p.key} = {p.frame} ({p.place}): {state}")
+    check_frames(mission.params, frames, mission.set_by)
     return 0

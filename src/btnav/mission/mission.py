@@ -9,25 +9,27 @@ map or tree) is one located `BtnavError`, never a failure half-way through a run
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 from os import PathLike
 from pathlib import Path
 from typing import Any, TypeVar
 
 from ..bt.bundled import find_tree
-from ..core.errors import BtnavError, WorldError
+from ..core.errors import BtnavError, BtnavWarning, ParamsError, WorldError
 from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
 from ..core.resources import bundled_dir
 from ..core.suggest import best_match
 from ..core.yaml_io import line_at
 from ..maps.map_io import load_map
+from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
 from ..navigators.navigator import Navigator
 from ..params.loader import ROS_PARAMETERS, load_params
 from ..params.paramsfile import ParamsFile
-from ..params.updates import apply_overrides
+from ..params.updates import _override_target, apply_overrides
 from ..plugins import load_plugins, names
 from ..sim.frames import world_frame_tree
 from ..sim.world import World
@@ -35,7 +37,14 @@ from ..sim.world_spec import WorldSpec, load_world_spec
 from .errors import MissionError
 from .outputs import check_outputs
 from .param_frames import check_frames
-from .spec import MissionSpec, load_mission_spec, resolve
+from .spec import (
+    MissionSpec,
+    load_mission_spec,
+    mission_place,
+    override_origins,
+    resolve,
+    set_by,
+)
 
 N = TypeVar("N", bound=Navigator)
 
@@ -63,6 +72,9 @@ class Mission:
     params: ParamsFile
     map_file: Path | None
     tree: str | None
+    #: What `--set`/`--seed` changed, by place (`mission.seed`, `amcl.base_frame_id`, in the
+    #: spelling errors use) -> the option that did (`--set amcl.base_frame_id=base_foot`).
+    set_by: dict[str, str] = field(default_factory=dict)
 
     @property
     def name(self) -> str:
@@ -77,7 +89,8 @@ class Mission:
         return self.spec.task.kind
 
     def where(self, *key: str | int) -> dict[str, Any]:
-        return _where(self.file, self.doc, *key)
+        """file, line and key of `key` in the mission file, or the `--set` that gave it."""
+        return _where(self.file, self.doc, self.set_by, *key)
 
     # -- loading --------------------------------------------------------------------------
 
@@ -88,15 +101,23 @@ class Mission:
         *,
         seed: int | None = None,
         overrides: Mapping[str, Any] | None = None,
+        origins: Mapping[str, str] | None = None,
     ) -> Mission:
-        """Read the mission and everything it names; any mistake is a located `BtnavError`."""
+        """Read the mission and everything it names; any mistake is a located `BtnavError`.
+
+        `origins` maps each override key to the option that gave it (`--set K=V` as typed;
+        default: rendered from the value), which errors about that value name.
+        """
         file = find_mission(path)
         mission_over, params_over = split_overrides(overrides or {})
+        given = override_origins({**mission_over, **params_over}, origins)
         if seed is not None:
             mission_over["mission.seed"] = seed
-        spec, doc = load_mission_spec(file, mission_over)
+            given["mission.seed"] = f"--seed {seed}"
+        spec, doc = load_mission_spec(file, mission_over, given)
         base = file.parent
-        where = partial(_where, file, doc)
+        changed = {"mission." + mission_place(k): given[k] for k in mission_over}
+        where = partial(_where, file, doc, changed)
 
         if spec.plugins:
             load_plugins(spec.plugins, base, file=str(file))
@@ -115,12 +136,15 @@ class Mission:
         )
         params = load_params(params_path)
         if params_over:
-            params = apply_overrides(params, params_over)
+            params, params_set = _override_params(params, params_over, given)
+            changed.update(params_set)
 
         map_file = None
         if spec.map is not None:
             map_file = _existing(resolve(base, spec.map), "map", where)
-            load_map(map_file)  # read once now, so a bad map is a load error
+            grid = load_map(map_file)  # read once now, so a bad map is a load error
+            for warning in task_pose_warnings(spec, grid, map_file, where):
+                warnings.warn(warning, stacklevel=2)
         elif spec.localization != "slam":
             raise MissionError(
                 f"localization '{spec.localization}' needs a map; give `map:` "
@@ -134,7 +158,7 @@ class Mission:
                 tree = str(find_tree(spec.tree, base_dir=base))
             except BtnavError as err:
                 raise _located(err, where("tree")) from None
-        return cls(spec, file, doc, world, params, map_file, tree)
+        return cls(spec, file, doc, world, params, map_file, tree, changed)
 
     # -- running --------------------------------------------------------------------------
 
@@ -161,10 +185,11 @@ class Mission:
             if action == "NavigateThroughPoses"
             else ("default_nav_to_pose_bt_xml")
         )
+        origin = self.set_by.get(f"bt_navigator.{key}")
         raw = self.params.raw.get("bt_navigator")
         return dict(
-            file=str(self.params.path),
-            line=line_at(raw, [ROS_PARAMETERS, key]) if raw is not None else None,
+            file=origin or str(self.params.path),
+            line=line_at(raw, [ROS_PARAMETERS, key]) if raw is not None and not origin else None,
             key=f"bt_navigator.{key}",
         )
 
@@ -172,7 +197,7 @@ class Mission:
         """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0;
         first, every frame the params name is checked against the robot's frame tree."""
         world = self.build_world()
-        check_frames(self.params, self.frame_tree(world))
+        check_frames(self.params, self.frame_tree(world), self.set_by)
         nav = cls.from_files(
             world,
             self.params,
@@ -188,6 +213,52 @@ class Mission:
         if self.spec.initial_pose is not None:
             nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
         return nav
+
+
+def task_pose_warnings(
+    spec: MissionSpec, grid: OccupancyGrid, map_file: Path, where: Any
+) -> list[BtnavWarning]:
+    """A warning for each task pose in a lethal cell of the map or outside it.
+
+    Not an error: Nav2 takes such a goal and fails it (the planner's GOAL_OCCUPIED or
+    GOAL_OUTSIDE_MAP), and a run that shows that may be the point. `where(*key)` places
+    a pose in the mission file (or on the `--set` that gave it).
+    """
+    kind = spec.task.kind
+    poses = spec.task.poses
+    if not poses:
+        return []
+    keys: list[tuple[str | int, ...]] = (
+        [("task", kind)]
+        if kind == "navigate_to_pose"
+        else [("task", kind, i) for i in range(len(poses))]
+    )
+    cells = grid.world_to_cell([(x, y) for x, y, _ in poses])
+    inside = grid.in_bounds(cells)
+    found = []
+    for n, (pose, key) in enumerate(zip(poses, keys, strict=True)):
+        shown = "[" + ", ".join(f"{v:g}" for v in pose) + "]"
+        if not inside[n]:
+            (x0, y0), (x1, y1) = _map_extent(grid)
+            problem = (
+                f"is outside the map ({map_file} covers x {x0:g} to {x1:g}, y {y0:g} to {y1:g})"
+            )
+        elif grid.data[cells[n, 0], cells[n, 1]] >= OCCUPIED:
+            problem = f"is inside an obstacle of the map ({map_file})"
+        else:
+            continue
+        found.append(
+            BtnavWarning(f"task pose {shown} {problem}; Nav2 will try it and fail", **where(*key))
+        )
+    return found
+
+
+def _map_extent(grid: OccupancyGrid) -> tuple[tuple[float, float], tuple[float, float]]:
+    corners = grid.origin.transform_points(
+        [(0.0, 0.0), (grid.size_m[0], 0.0), (0.0, grid.size_m[1]), grid.size_m]
+    )
+    (x0, y0), (x1, y1) = corners.min(axis=0), corners.max(axis=0)
+    return (float(x0), float(y0)), (float(x1), float(y1))
 
 
 def find_mission(name: str | PathLike[str]) -> Path:
@@ -206,9 +277,40 @@ def find_mission(name: str | PathLike[str]) -> Path:
     )
 
 
-def _where(file: Path, doc: Any, *key: str | int) -> dict[str, Any]:
-    """file, line and key of `key` in the mission file, for an error."""
+def _where(file: Path, doc: Any, changed: Mapping[str, str], *key: str | int) -> dict[str, Any]:
+    """file, line and key of `key` in the mission file for an error; for a value `--set`
+    gave (`changed`: `mission.<place>` -> option), that option instead of a line."""
+    dotted = "mission." + ".".join(str(k) for k in key)
+    origin = set_by(dotted, changed)
+    if origin is not None:
+        return dict(file=origin, line=None, key=list(key))
     return dict(file=str(file), line=line_at(doc, key), key=list(key))
+
+
+def _override_params(
+    params: ParamsFile, overrides: Mapping[str, Any], given: Mapping[str, str]
+) -> tuple[ParamsFile, dict[str, str]]:
+    """`apply_overrides`, with an error about a value blamed on the `--set` that gave it.
+
+    Also returns what each override changed, in the key spelling errors and frame
+    checks use (`local_costmap.local_costmap.inflation_layer.inflation_radius`).
+    """
+    changed: dict[str, str] = {}
+    try:
+        for key in overrides:
+            node_path, rest = _override_target(params.raw, key)
+            changed[".".join([*node_path, *rest])] = given[key]
+        return apply_overrides(params, overrides), changed
+    except ParamsError as err:
+        if err.file is not None:
+            raise
+        origin = set_by(err.key, changed) or given.get(err.key or "")
+        if origin is None and len(overrides) == 1:
+            origin = given[next(iter(overrides))]
+        if origin is None:
+            raise
+        message = err.message.removesuffix(" (value given by --set)")
+        raise ParamsError(message, file=origin, key=err.key, suggestion=err.suggestion) from None
 
 
 def _located(err: BtnavError, where: dict[str, Any]) -> BtnavError:

@@ -11,7 +11,7 @@ class SpeedPlot:
     files = ("speed.png",)
 
     def write(self, run: RunOutput) -> None:
-        ...  # run.track, run.report, run.navigator, run.out_dir
+        ...  # run.track, run.plan, run.report, run.navigator, run.out_dir
 ```
 """
 
@@ -49,6 +49,17 @@ class RunOutput:
     navigator: Any  # Navigator, its world and stack as the run left them
     report: Any  # RunReport
     track: np.ndarray  # one row per control cycle: t, gt_x, gt_y, gt_yaw, est_x, est_y, est_yaw
+
+    @property
+    def plan(self) -> np.ndarray:
+        """(N, 3) x, y, yaw: the last global plan the controller followed; (0, 3) if none.
+
+        Read from controller_server's last FollowPath goal, which the run leaves in place.
+        """
+        handle = self.navigator.stack.controller_server.current
+        if handle is None or handle.goal.path is None:
+            return np.zeros((0, 3))
+        return np.asarray(handle.goal.path.poses, dtype=float).reshape(-1, 3).copy()
 
 
 class OutputPlugin(Protocol):

@@ -30,6 +30,9 @@ class RunReport:
     task: str = ""
     goals: int = 0
     outputs: list[str] = field(default_factory=list)
+    #: One record per contact (`World.contacts`): time, pose [x, y, yaw], hit (wall or
+    #: obstacle), index in the world file's list, kind and line; `collisions` counts them.
+    contacts: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def succeeded(self) -> bool:
@@ -37,8 +40,10 @@ class RunReport:
 
     @property
     def exit_code(self) -> int:
-        """`btnav run`'s: 0 when the task succeeded, 1 when it failed or was canceled."""
-        return EXIT_SUCCEEDED if self.succeeded else EXIT_FAILED
+        """`btnav run`'s: 0 when the task succeeded, 1 when it failed or was canceled, or
+        when waypoints were missed: Nav2's FollowWaypoints still succeeds then (the status
+        stays `succeeded`), but a script or CI job asked for every waypoint."""
+        return EXIT_SUCCEEDED if self.succeeded and not self.missed_waypoints else EXIT_FAILED
 
     @property
     def real_time_factor(self) -> float:
@@ -53,6 +58,8 @@ class RunReport:
     def summary(self) -> str:
         """One line: the outcome, time, and what a user checks first."""
         head = f"{self.mission}: {self.status}"
+        if self.succeeded and self.missed_waypoints:
+            head += f" with {len(self.missed_waypoints)} of {self.goals} waypoints missed"
         if self.error_code is not None:
             head += f" (error {self.error_code}: {self.error_msg})"
         elif self.error_msg:

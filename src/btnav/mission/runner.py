@@ -12,6 +12,7 @@ never an exception.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
@@ -38,8 +39,16 @@ def start_task(nav: Navigator, mission: Mission) -> bool:
     return nav.follow_waypoints(poses)
 
 
-def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunReport:
-    """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing)."""
+def run_mission(
+    mission: Mission,
+    out_dir: str | Path | None = None,
+    progress: Callable[[Navigator], None] | None = None,
+) -> RunReport:
+    """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
+
+    `progress(nav)` is called at every poll of the wait (before each physics step) for
+    a live status; it must only read, so the run is the same with or without it.
+    """
     outputs = list(mission.spec.outputs) if out_dir is not None else []
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
@@ -82,7 +91,18 @@ def run_mission(mission: Mission, out_dir: str | Path | None = None) -> RunRepor
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):
-            result = nav.wait_until_done(mission.spec.time_limit)
+            if progress is None:
+                result = nav.wait_until_done(mission.spec.time_limit)
+            else:  # wait_until_done's loop, with `progress` at each poll
+                handle = nav.handle
+                assert handle is not None  # start_task sent the goal
+
+                def done() -> bool:
+                    progress(nav)
+                    return handle.done
+
+                nav.runtime.run_until(done, mission.spec.time_limit)
+                result = nav.get_result()
             if result is None:
                 limit_reached = True
                 nav.cancel_task()
@@ -139,4 +159,5 @@ def _report(
         task=mission.task,
         goals=len(mission.spec.task.poses),
         outputs=[f for name in outputs for f in output_files(name)],
+        contacts=[c.to_dict() for c in nav.world.contacts],
     )

@@ -22,6 +22,7 @@ in the map frame. `task` holds exactly one of `navigate_to_pose`,
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from collections.abc import Mapping
@@ -107,28 +108,60 @@ class MissionSpec(StrictModel):
     plugins: list[str] = Field(default_factory=list)
 
 
-def _apply_overrides(doc: YamlMap, overrides: Mapping[str, Any]) -> tuple[YamlMap, list[str]]:
+def mission_place(key: str) -> str:
+    """Where a `--set` mission key writes: `mission.seed` -> `seed` (the prefix is optional)."""
+    parts = key.split(".")
+    return ".".join(parts[1:] if parts[0] == "mission" else parts)
+
+
+def _apply_overrides(doc: YamlMap, overrides: Mapping[str, Any]) -> YamlMap:
     """`--set mission.KEY=VALUE`: write each value into a copy of the document."""
     doc = copy_tree(doc)
-    changed = []
     for key, value in overrides.items():
-        parts = key.split(".")
-        if parts[0] == "mission":
-            parts = parts[1:]
-        if not parts or not all(parts):
+        parts = mission_place(key).split(".")
+        if not all(parts):
             raise MissionError(f"'{key}' is not a dotted mission key", key=key)
         try:
             set_path(doc, parts, value, key)
         except BtnavError as err:
             raise MissionError(err.message, key=key) from None
-        changed.append(".".join(parts))
-    return doc, changed
+    return doc
+
+
+def set_by(key: str | None, changed: Mapping[str, str]) -> str | None:
+    """What set `key` or a section above it, from `changed` (dotted place -> `--set K=V`)."""
+    if not key:
+        return None
+    for place, origin in changed.items():
+        if key == place or key.startswith((place + ".", place + "[")):
+            return origin
+    return None
+
+
+def set_option(key: str, value: Any) -> str:
+    """`--set KEY=VALUE` as a user would have typed it (for errors about the value)."""
+    text = value if isinstance(value, str) else json.dumps(value)
+    return f"--set {key}={text}"
+
+
+def override_origins(
+    overrides: Mapping[str, Any], origins: Mapping[str, str] | None = None
+) -> dict[str, str]:
+    """Each override key -> where it came from: `origins[key]`, else `--set KEY=VALUE`."""
+    given = origins or {}
+    return {k: given.get(k) or set_option(k, v) for k, v in overrides.items()}
 
 
 def load_mission_spec(
-    path: str | PathLike[str], overrides: Mapping[str, Any] | None = None
+    path: str | PathLike[str],
+    overrides: Mapping[str, Any] | None = None,
+    origins: Mapping[str, str] | None = None,
 ) -> tuple[MissionSpec, Any]:
-    """Read and validate a mission file (with `--set mission.*` overrides); the spec and document."""
+    """Read and validate a mission file (with `--set mission.*` overrides); the spec and document.
+
+    `origins` says where each override came from (`--set mission.seed=3`, `--seed 3`); an
+    error about an overridden value names that, not a line of the file it was never on.
+    """
     file = str(path)
     doc = load_yaml(path)
     if not isinstance(doc, YamlMap):
@@ -137,28 +170,35 @@ def load_mission_spec(
             file=file,
             line=getattr(doc, "line", None),
         )
-    changed: list[str] = []
+    where = override_origins(overrides or {}, origins)
+    changed = {mission_place(k): origin for k, origin in where.items()}
     if overrides:
-        doc, changed = _apply_overrides(doc, overrides)
+        try:
+            doc = _apply_overrides(doc, overrides)
+        except MissionError as err:
+            raise err.located(file=where.get(err.key or "")) from None
     try:
         spec = validate(MissionSpec, doc, file=file, error_cls=MissionError)
     except MissionError as err:
-        if err.key and any(err.key == c or err.key.startswith(c + ".") for c in changed):
+        origin = set_by(err.key, changed)
+        if origin is not None:
             raise MissionError(
-                f"{err.message} (value given by --set)", key=err.key, suggestion=err.suggestion
+                err.message, file=origin, key=err.key, suggestion=err.suggestion
             ) from None
         raise
-    _check_task(spec, doc, file)
+    _check_task(spec, doc, file, changed)
     return spec, doc
 
 
-def _check_task(spec: MissionSpec, doc: Any, file: str) -> None:
+def _check_task(spec: MissionSpec, doc: Any, file: str, changed: Mapping[str, str]) -> None:
     if spec.task.kind in PLANNED_TASKS:
+        key = f"task.{spec.task.kind}"
+        origin = set_by(key, changed)
         raise MissionError(
             f"task '{spec.task.kind}' is not available yet: {PLANNED_TASKS[spec.task.kind]}",
-            file=file,
-            line=line_at(doc, ["task", spec.task.kind]),
-            key=f"task.{spec.task.kind}",
+            file=origin or file,
+            line=None if origin else line_at(doc, ["task", spec.task.kind]),
+            key=key,
         )
 
 

@@ -1,10 +1,11 @@
 """`trajectory.csv`: one row per control cycle, and the run's path length and localisation error.
 
 Columns: `t, gt_x, gt_y, gt_yaw, est_x, est_y, est_yaw, odom_x, odom_y, odom_yaw, cmd_v,
-cmd_w`: the ground-truth pose, the localiser's estimate (the frame tree's
-`map -> base_footprint`), the wheel odometry and the command the controller sent.
-The recorder runs in the runtime's MONITOR stage at the controller's rate, so each row
-sees the command of that control cycle. Rows stream to the file as they come (a long
+cmd_w, contact`: the ground-truth pose, the localiser's estimate (the frame tree's
+`map -> base_footprint`), the wheel odometry, the command the controller sent, and 1
+on the row of the control cycle during which a new contact began (else 0; the
+report's `contacts` says what was hit). The recorder runs in the runtime's MONITOR
+stage at the controller's rate, so each row sees the command of that control cycle. Rows stream to the file as they come (a long
 run keeps no history in memory); the sums the report needs are kept as it goes, and
 the poses themselves only with `keep_track` (for pictures).
 """
@@ -33,6 +34,7 @@ COLUMNS = (
     "odom_yaw",
     "cmd_v",
     "cmd_w",
+    "contact",  # after the brief's columns: 1 when a new contact began in this cycle
 )
 
 
@@ -62,6 +64,7 @@ class TrajectoryRecorder:
         self._sum_sq_xy = 0.0
         self._sum_sq_yaw = 0.0
         self.max_xy = 0.0
+        self._contacts_seen = len(runtime.world.contacts)
         self._track: array[float] | None = array("d") if keep_track else None
         if sink is not None:
             sink.write(",".join(COLUMNS) + "\n")
@@ -80,11 +83,14 @@ class TrajectoryRecorder:
         self._sum_sq_yaw += normalize_angle(est.yaw - gt.yaw) ** 2
         self.max_xy = max(self.max_xy, math.sqrt(err_sq))
         self.rows += 1
+        contacts = len(rt.world.contacts)
+        contact = 1 if contacts > self._contacts_seen else 0
+        self._contacts_seen = contacts
         if self._track is not None:
             self._track.extend((now, gt.x, gt.y, gt.yaw, est.x, est.y, est.yaw))
         if self.sink is not None:
             row = (now, gt.x, gt.y, gt.yaw, est.x, est.y, est.yaw)
-            row += (odom.x, odom.y, odom.yaw, cmd.linear_x, cmd.angular_z)
+            row += (odom.x, odom.y, odom.yaw, cmd.linear_x, cmd.angular_z, contact)
             self.sink.write(",".join(map(repr, row)) + "\n")
 
     @property

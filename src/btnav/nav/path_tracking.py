@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..core import fmath
 from ..core.geometry import Pose2D, normalize_angle
 from ..core.messages import Path
 
@@ -32,7 +33,7 @@ class PathTracker:
         self._index = 0
         xy = path.poses[:, :2]
         d = xy[1:] - xy[:-1]
-        self._seg_len = np.hypot(d[:, 0], d[:, 1])
+        self._seg_len = fmath.hypot(d[:, 0], d[:, 1])
         self._along = np.concatenate([[0.0], np.cumsum(self._seg_len)])
 
     def track(self, pose: Pose2D) -> tuple[int, float, float, float]:
@@ -58,7 +59,7 @@ class PathTracker:
         sq = lengths**2
         t = np.clip((rel * seg).sum(axis=1) / np.where(sq > 0, sq, 1.0), 0.0, 1.0)
         nearest = a + seg * t[:, None]
-        dist = np.hypot(pose.x - nearest[:, 0], pose.y - nearest[:, 1])
+        dist = fmath.hypot(pose.x - nearest[:, 0], pose.y - nearest[:, 1])
         k = int(np.argmin(dist))
         i = start + k
         self._index = i

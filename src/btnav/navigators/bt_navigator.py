@@ -33,6 +33,7 @@ from pydantic import Field
 from ..bt import load_tree
 from ..bt.bundled import find_tree
 from ..bt.nav2_context import RECOVERIES_KEY, recovery_count
+from ..core import fmath
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
 from ..core.errors import PluginError
 from ..core.geometry import Pose2D
@@ -275,7 +276,7 @@ class Navigator(ActionServer[Any]):
             self._path, self._closest = path, 0
             xy = path.poses[:, :2]
             self._xy = xy
-            self._seg = np.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+            self._seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
             self._window_end = {}
             self._length_from = {}
         xy, seg = self._xy, self._seg
@@ -290,7 +291,7 @@ class Navigator(ActionServer[Any]):
                 window_end = start + 1 + int(np.searchsorted(along, self.search_window))
             self._window_end[start] = window_end
         window = xy[start : min(window_end + 1, len(xy))]
-        d = np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
+        d = fmath.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
         self._closest = closest = start + int(np.argmin(d))
         # nav2_util's calculate_path_length(path, closest_pose_idx)
         remaining = self._length_from.get(closest)

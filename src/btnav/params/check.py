@@ -11,7 +11,7 @@ import sys
 from os import PathLike
 from typing import TextIO
 
-from ..core.errors import BtnavError
+from ..core.errors import ERROR_PREFIX, BtnavError
 from .loader import load_params
 from .paramsfile import ParamsFile
 
@@ -62,7 +62,7 @@ def check_main(
     try:
         report = check_report(path)
     except BtnavError as exc:
-        print(f"error: {exc}", file=err)
+        print(f"{ERROR_PREFIX}{exc}", file=err)
         return 2
     print(report, file=out)
     return 0

@@ -4,11 +4,14 @@ The section's `plugin:` type is looked up in btnav's registry; a registered
 plugin validates the rest of the section with its own `Params` model. A Nav2
 type btnav knows but has no plugin for is accepted and its keys are listed as
 ignored. Any other type is an error naming the closest known type, as is a listed
-name without a section (unless Nav2 supplies the type by default).
+name without a section (unless Nav2 supplies the type by default). A section whose
+keys are another plugin's (`plugin:` switched to DWB over MPPI's keys) is one line
+that says so and names the fix, not a list of every key the new plugin lacks.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -16,7 +19,9 @@ import pydantic
 
 from .. import plugins as registry
 from ..core.errors import ParamsError
+from ..core.resources import bundled_dir
 from ..core.suggest import best_match
+from ..core.validation import field_names
 from ..core.yaml_io import YamlMap, YamlSeq
 from .ignored import entry, ignored_keys
 from .nav2_known import class_name, known_plugin_type, known_plugin_types
@@ -28,6 +33,22 @@ from .tree import line_of
 
 class NoParams(ParamsModel):
     """The schema of a plugin class without a `Params` model: it takes no keys."""
+
+
+#: A section with at least this many unknown keys, most of them another plugin's, was
+#: written for that plugin; fewer unknown keys are typos, reported one by one.
+MIN_FOREIGN_KEYS = 3
+#: How many of the other plugin's keys the message names before "... N more".
+SHOWN_FOREIGN_KEYS = 3
+#: Bundled params files holding a plugin's documented section: (short name, file).
+EXAMPLE_SECTIONS: dict[str, tuple[str, str]] = {
+    "nav2_mppi_controller/MPPIController": ("MPPI's", "nav2_params.yaml"),
+    "dwb_core/DWBLocalPlanner": ("DWB's", "nav2_params_dwb.yaml"),
+    "nav2_regulated_pure_pursuit_controller/RegulatedPurePursuitController": (
+        "Regulated Pure Pursuit's",
+        "nav2_params_rpp.yaml",
+    ),
+}
 
 
 def _list_line(doc: Mapping[str, Any], plist: PluginList, name: str) -> int | None:
@@ -97,7 +118,13 @@ def resolve_plugin(
         model = getattr(cls, "Params", None)
         if not (isinstance(model, type) and issubclass(model, pydantic.BaseModel)):
             model = NoParams
-        params = validate_section(model, body, key_prefix=key_path, file=file)
+        try:
+            params = validate_section(model, body, key_prefix=key_path, file=file)
+        except ParamsError:
+            foreign = _foreign_section(plist, cls, model, body)
+            if foreign is None:
+                raise
+            raise _foreign_error(type_name, cls, *foreign, file, line, key_path) from None
         found = PluginSection(
             name, plist.kind, type_name, cls, params, ".".join(key_path), line, plist.key, defaulted
         )
@@ -142,3 +169,92 @@ def _unknown_type(
     return ParamsError(
         message, file=file, line=line, key=key, suggestion=best_match(type_name, nav2 + registered)
     )
+
+
+def _unknown_keys(model: type[pydantic.BaseModel], body: Mapping[str, Any]) -> list[str] | None:
+    """The section's top-level keys `model` refuses as unknown; None if it cannot tell
+    (its own checks stopped before looking at the keys one by one)."""
+    try:
+        model.model_validate(body)
+    except pydantic.ValidationError as exc:
+        errors = exc.errors(include_url=False)
+        if any(not e["loc"] for e in errors):
+            return None
+        refused = {
+            str(e["loc"][0])
+            for e in errors
+            if e["type"] == "extra_forbidden" and len(e["loc"]) == 1
+        }
+        return [str(k) for k in body if str(k) in refused]
+    except Exception:  # a third-party model that fails its own way: no opinion
+        return None
+    return []
+
+
+def _foreign_section(
+    plist: PluginList, cls: type, model: type[pydantic.BaseModel], body: Mapping[str, Any]
+) -> tuple[str, list[str]] | None:
+    """(other plugin, its keys) when most keys `model` refuses are valid keys of another
+    registered plugin of the same kind: the section was written for that plugin."""
+    unknown = _unknown_keys(model, body)
+    if unknown is None:  # its own checks failed first: judge the keys by its field names
+        known = set(field_names(model))
+        unknown = [str(k) for k in body if str(k) not in known]
+    if len(unknown) < MIN_FOREIGN_KEYS:
+        return None
+    best: tuple[str, list[str]] | None = None
+    for name in registry.names(plist.kind):
+        other = registry.lookup(plist.kind, name)
+        other_model = getattr(other, "Params", None)
+        if other is cls or not (
+            isinstance(other_model, type) and issubclass(other_model, pydantic.BaseModel)
+        ):
+            continue
+        refused = _unknown_keys(other_model, body)
+        if refused is None or 4 * len(refused) > len(body):
+            continue  # the other plugin would refuse much of the section too
+        theirs = [k for k in unknown if k not in refused]
+        if 2 * len(theirs) > len(unknown) and (best is None or len(theirs) > len(best[1])):
+            best = (name, theirs)
+    return best
+
+
+def _foreign_error(
+    type_name: str,
+    cls: type,
+    other: str,
+    keys: list[str],
+    file: str | None,
+    line: int | None,
+    key_path: list[str],
+) -> ParamsError:
+    """One line: whose keys these are, which plugin the section names, and the two fixes."""
+    spelling = "::" if "::" in type_name else "/"
+    other_name = other.replace("/", spelling)
+    shown = ", ".join(keys[:SHOWN_FOREIGN_KEYS])
+    if len(keys) > SHOWN_FOREIGN_KEYS:
+        shown += f", ... {len(keys) - SHOWN_FOREIGN_KEYS} more"
+    primary = str(getattr(cls, "plugin_name", registry.canonical(type_name)))
+    example = EXAMPLE_SECTIONS.get(primary)
+    if example is not None:
+        whose, example_file = example
+        fix = f"replace the section with {whose} ({_shown_path(example_file)} has one)"
+    else:
+        fix = f"replace the section with {class_name(type_name)}'s keys"
+    return ParamsError(
+        f"this section holds {other_name}'s keys ({shown}) but its plugin is {type_name}: "
+        f"{fix} or set plugin back",
+        file=file,
+        line=line,
+        key=key_path,
+    )
+
+
+def _shown_path(name: str) -> str:
+    """A bundled params file as a user can type it from here: relative when it is below."""
+    path = bundled_dir("params") / name
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:  # another drive (Windows)
+        return str(path)
+    return rel if not rel.startswith("..") else str(path)

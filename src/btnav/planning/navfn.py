@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from ..core import fmath
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from .exceptions import PlannerCancelled
 
@@ -257,7 +258,7 @@ def compute_potential(
     h = None
     if use_astar:
         ys, xs = np.ogrid[:ny, :nx]
-        h = COST_NEUTRAL * np.hypot(xs - goal[0], ys - goal[1])
+        h = COST_NEUTRAL * fmath.hypot(xs - goal[0], ys - goal[1])
         csr = graph.graph(graph.weights(costarr, h))
         base = 0.0  # reduced distances: the goal's is its detour over the straight line
     else:

@@ -22,6 +22,8 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
 
+from ..core import fmath
+from ..core.geometry import normalize_angle
 from ..core.messages import Path
 from ..costmap.cost_values import MAX_NON_OBSTACLE, NO_INFORMATION
 from ..costmap.costmap_2d import Costmap2D
@@ -144,13 +146,13 @@ def approximate_orientations(poses: NDArray[np.float64], is_holonomic: bool) -> 
     """
     yaw = poses[:, 2].copy()
     d = np.diff(poses[:, :2], axis=0)
-    theta = np.arctan2(d[:, 1], d[:, 0])
+    theta = fmath.arctan2(d[:, 1], d[:, 0])  # fmath, not numpy: the same bits on every CPU
     reversing = False
     if not is_holonomic and len(poses) > 2:
-        diff = np.angle(np.exp(1j * (theta[1] - poses[1, 2])))
+        diff = normalize_angle(float(theta[1] - poses[1, 2]))
         reversing = abs(diff) > np.pi / 2
     if reversing:
         theta = theta + np.pi
     moving = ~((np.abs(d[:, 0]) < 1e-4) & (np.abs(d[:, 1]) < 1e-4))
-    yaw[:-1] = np.where(moving, np.angle(np.exp(1j * theta)), yaw[:-1])
+    yaw[:-1] = np.where(moving, normalize_angle(theta), yaw[:-1])
     return yaw

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from pydantic import Field, model_validator
 
+from ..core import fmath
 from ..core.messages import LaserScan
 from ..plugins import register
 from .raycast import RayCaster
@@ -112,7 +113,8 @@ class Lidar(Sensor):
         self.noise_std = float(p.noise_std)
         self._lo32 = _f32_at_least(self.range_min)
         self._hi32 = _f32_at_most(self.range_max)
-        self._local = np.stack([np.cos(self.angles), np.sin(self.angles)])  # (2, B), sensor frame
+        sin, cos = fmath.sincos(self.angles)
+        self._local = np.stack([cos, sin])  # (2, B), sensor frame
         self._dirs_t = np.empty((2, p.beams))  # the same in the world, rewritten every scan
         self._rot = np.empty((2, 2))
         # Noise is drawn for _NOISE_BATCH scans at a time (one numpy call instead of one
@@ -136,7 +138,7 @@ class Lidar(Sensor):
         rot[0, 0] = rot[1, 1] = math.cos(yaw)
         rot[1, 0] = math.sin(yaw)
         rot[0, 1] = -rot[1, 0]
-        np.matmul(rot, self._local, out=self._dirs_t)
+        fmath.matmul_k(rot, self._local, out=self._dirs_t)  # not BLAS: CPU-independent bits
         return self._caster.cast(self.world.geometry(), (x, y), self._dirs_t.T, self.range_max)
 
     def _next_noise(self) -> np.ndarray:

@@ -14,6 +14,7 @@ from bisect import bisect_right
 import numpy as np
 from numpy.typing import NDArray
 
+from ..core import fmath
 from .world_spec import MovesSpec
 
 
@@ -25,7 +26,7 @@ class Route:
         keep = np.ones(len(pts), dtype=bool)
         keep[1:] = np.any(np.diff(pts, axis=0) != 0, axis=1)
         self.points = pts[keep]
-        seg = np.hypot(*np.diff(self.points, axis=0).T) if len(self.points) > 1 else np.zeros(0)
+        seg = fmath.hypot(*np.diff(self.points, axis=0).T) if len(self.points) > 1 else np.zeros(0)
         self.cumulative = np.concatenate([[0.0], np.cumsum(seg)])
         self.length = float(self.cumulative[-1])
         self.speed = float(moves.speed)

@@ -25,6 +25,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..core.messages import Odometry
 from ..core.rng import stream
@@ -88,8 +89,9 @@ def sample_motion(
     h_rot2 = rot2 + noise[:, 2]
     out = np.empty_like(poses)
     heading = poses[:, 2] + h_rot1
-    out[:, 0] = poses[:, 0] + h_trans * np.cos(heading)
-    out[:, 1] = poses[:, 1] + h_trans * np.sin(heading)
+    sin, cos = fmath.sincos(heading)
+    out[:, 0] = poses[:, 0] + h_trans * cos
+    out[:, 1] = poses[:, 1] + h_trans * sin
     out[:, 2] = heading + h_rot2
     return out
 

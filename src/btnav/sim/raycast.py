@@ -9,7 +9,8 @@ arranged to need few of them.
 Segments: origin o, unit direction d, segment p + u e, a = p - o. The textbook
 t = (a x e) / (d x e), u = (a x d) / (d x e) is rewritten in inverse range: divided
 by a x e, each segment gives three rows whose dot products with d are K = 1/t,
-W = u/t and V = (1 - u)/t, so one product (3S, 2) @ (2, B) evaluates every pair.
+W = u/t and V = (1 - u)/t, so one product (3S, 2) @ (2, B) evaluates every pair
+(`fmath.matmul_k`: two broadcast multiplies and an add, the same bits on every CPU).
 The ray crosses the segment in front of the origin exactly when W >= 0 and V >= 0;
 with W and V scaled by 2^40, min(K, min(W, V)) is K for a hit and <= 0 for a miss,
 and the nearest hit is the largest K: two minimums and a max over the block, no
@@ -35,9 +36,10 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..core import fmath
 from .geometry import Geometry
 
-#: Ray x segment pairs evaluated in one block: bounds the scratch memory (3 x 512 kB).
+#: Ray x segment pairs evaluated in one block: bounds the scratch memory (2 x 3 x 512 kB).
 CHUNK_PAIRS = 1 << 16
 #: Relative lengthening of every segment, so vertices shared by two edges are hit.
 ENDPOINT_EPS = 1e-9
@@ -75,8 +77,8 @@ _FAR = 1e100
 
 def beam_directions(angles: ArrayLike) -> NDArray[np.float64]:
     """(B, 2) unit vectors for beam angles (radians), to be cached by a sensor."""
-    a = np.asarray(angles, dtype=float)
-    return np.stack([np.cos(a), np.sin(a)], axis=-1)
+    s, c = fmath.sincos(np.asarray(angles, dtype=float))
+    return np.stack([c, s], axis=-1)
 
 
 def _prune_segments(segs: NDArray[np.float64], max_range: float) -> NDArray[np.float64]:
@@ -87,8 +89,8 @@ def _prune_segments(segs: NDArray[np.float64], max_range: float) -> NDArray[np.f
     """
     mx = 0.5 * (segs[:, 0] + segs[:, 2])
     my = 0.5 * (segs[:, 1] + segs[:, 3])
-    half = 0.5 * np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
-    keep = np.hypot(mx, my) - half <= max_range
+    half = 0.5 * fmath.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    keep = fmath.hypot(mx, my) - half <= max_range
     return segs if keep.all() else segs[keep]
 
 
@@ -101,8 +103,8 @@ def _on_line_hits(segs: NDArray[np.float64], dirs: NDArray[np.float64]) -> NDArr
     out = np.full(len(dirs), np.inf)
     p, q = segs[:, :2], segs[:, 2:]
     e = q - p
-    length = np.hypot(e[:, 0], e[:, 1])
-    on_seg = np.einsum("ij,ij->i", p, e) * np.einsum("ij,ij->i", q, e) <= 0  # o between p and q
+    length = fmath.hypot(e[:, 0], e[:, 1])
+    on_seg = fmath.dot_rows(p, e) * fmath.dot_rows(q, e) <= 0  # o between p and q
     if np.any(on_seg):
         out[:] = 0.0
         return out
@@ -112,9 +114,9 @@ def _on_line_hits(segs: NDArray[np.float64], dirs: NDArray[np.float64]) -> NDArr
         return out
     unit = e / length[:, None]
     # A ray is along the line if its sideways miss at the far end is within tolerance.
-    far = np.maximum(np.hypot(p[:, 0], p[:, 1]), np.hypot(q[:, 0], q[:, 1]))
+    far = np.maximum(fmath.hypot(p[:, 0], p[:, 1]), fmath.hypot(q[:, 0], q[:, 1]))
     side = np.abs(dirs[:, 0:1] * unit[:, 1] - dirs[:, 1:2] * unit[:, 0]) * far
-    tp, tq = dirs @ p.T, dirs @ q.T  # distance along each ray to each end
+    tp, tq = fmath.matmul_k(dirs, p.T), fmath.matmul_k(dirs, q.T)  # along each ray to each end
     t = np.minimum(tp, tq)
     hit = (side <= COLLINEAR_TOL) & (t >= 0)
     if np.any(hit):
@@ -235,15 +237,17 @@ class RayCaster:
         n_rows, n_rays = len(rows), dirs_t.shape[1]
         per_ray = n_rows + n_c  # the circles need one scratch row each
         step = max(1, min(n_rays, self.chunk_pairs // (n_s + n_c)))
-        if self._buf.size < per_ray * step:
-            self._buf = np.empty(per_ray * step)
+        if self._buf.size < (per_ray + n_rows) * step:
+            self._buf = np.empty((per_ray + n_rows) * step)
+        tmp = self._buf[per_ray * step : (per_ray + n_rows) * step]
         best = np.empty(n_rays)
         with np.errstate(invalid="ignore"):
             for start in range(0, n_rays, step):
                 stop = min(n_rays, start + step)
                 n = stop - start
                 block = self._buf[: n_rows * n].reshape(n_rows, n)
-                np.matmul(rows, dirs_t[:, start:stop], out=block)
+                # rows @ dirs_t as two products and a sum (BLAS: CPU-dependent bits)
+                fmath.matmul_k(rows, dirs_t[:, start:stop], out=block, tmp=tmp[: n_rows * n])
                 if n_s:
                     w, v, k = block[:n_s], block[n_s : 2 * n_s], block[2 * n_s : 3 * n_s]
                     np.minimum(w, v, out=w)  # >= 0 exactly when the ray crosses the segment
@@ -290,7 +294,7 @@ def _segment_rows(
         rel, c = rel[~on_line], c[~on_line]
         if len(rel) == 0:
             return _NO_ROWS
-    coef = rel @ _ROWS
+    coef = fmath.matmul_k(rel, _ROWS)
     coef /= c[:, None]
     return np.ascontiguousarray(coef.reshape(len(rel), 3, 2).swapaxes(0, 1)).reshape(-1, 2)
 
@@ -304,7 +308,7 @@ def _circle_rows(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The (C, 2) rows m / sqrt(c) of the circles `rel` (centres relative to the origin)
     and the (C, 1) factors 1 / sqrt(c); circles around the origin take the side path."""
-    c = (rel * rel) @ _CIRCLE_C  # |m|^2 - r^2: <= 0 with the origin inside
+    c = fmath.dot_rows(rel * rel, _CIRCLE_C)  # |m|^2 - r^2: <= 0 with the origin inside
     if prune:
         keep = c <= max_range * (max_range + 2.0 * rel[:, 2])  # |m| - r <= max_range
         rel, c = rel[keep], c[keep]
@@ -313,7 +317,7 @@ def _circle_rows(
     if c.min() <= 0:
         inside = c <= 0
         # The sensor inside a pillar: t = b + sqrt(b^2 - c), where the ray gets out.
-        b = rel[inside, :2] @ dirs_t
+        b = fmath.matmul_k(rel[inside, :2], dirs_t)
         extras.append((1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0))
         rel, c = rel[~inside], c[~inside]
         if len(c) == 0:

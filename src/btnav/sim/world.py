@@ -1,13 +1,14 @@
 """The pymunk world: static walls and obstacles, kinematic moving obstacles, the robot.
 
 The simulator knows nothing of navigation. It steps physics on sim time, takes a
-velocity command, counts the robot's contacts and hands out its solid geometry
+velocity command, records the robot's contacts and hands out its solid geometry
 (for sensors and maps) and the ground-truth pose (for tests, metrics and the
 ground-truth localiser only).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from os import PathLike
 from typing import Any
 
@@ -29,6 +30,38 @@ from .world_spec import WorldSpec, load_world_spec
 MAX_SUBSTEP_NS = 10_000_000  # 0.01 s
 #: How deep the start footprint may touch something before it counts as overlapping.
 START_OVERLAP_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class Contact:
+    """One contact of the robot with a wall or obstacle, as it began.
+
+    A count says that something went wrong; this says when, where the robot was and
+    what it hit, down to the item and line of the world file a user looks at.
+    """
+
+    time: float  # sim seconds at the end of the physics step that made the contact
+    pose: Pose2D  # the robot's ground-truth pose then
+    hit: str  # "wall" or "obstacle"
+    index: int  # in the world file's `walls:` or `obstacles:` list
+    kind: str  # box, circle or polygon; a wall is a "polyline"
+    line: int | None  # of that list item in the world file
+
+    @property
+    def label(self) -> str:
+        """`obstacles[3] (box)`: the item's key path, as errors name it."""
+        return f"{self.hit}s[{self.index}]" + (f" ({self.kind})" if self.hit == "obstacle" else "")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The record `report.json` lists under `contacts`."""
+        return {
+            "time": self.time,
+            "pose": [self.pose.x, self.pose.y, self.pose.yaw],
+            "hit": self.hit,
+            "index": self.index,
+            "kind": self.kind,
+            "line": self.line,
+        }
 
 
 class _Mover:
@@ -79,6 +112,9 @@ class World:
         self._check_start_pose()
 
         self.collisions = 0
+        #: Every contact, in the order they began (`collisions` is their count).
+        self.contacts: list[Contact] = []
+        self._ns_after_step = 0  # sim time the physics step now running ends at
         self._touching: dict[int, int] = {}  # solid index -> shape pairs in contact
         space.on_collision(
             ROBOT_COLLISION_TYPE, None, begin=self._on_begin, separate=self._on_separate
@@ -171,9 +207,23 @@ class World:
         if index is None:
             return
         n = self._touching.get(index, 0)
-        if n == 0:
-            self.collisions += 1  # a new contact with this wall or obstacle
+        if n == 0:  # a new contact with this wall or obstacle
+            self.collisions += 1
+            self.contacts.append(self._contact(index))
         self._touching[index] = n + 1
+
+    def _contact(self, index: int) -> Contact:
+        solid = self.solids[index]
+        what, i = solid.key[0], int(solid.key[1])
+        kind = self.spec.obstacles[i].kind if what == "obstacles" else "polyline"
+        return Contact(
+            time=self._ns_after_step / NS_PER_S,
+            pose=self.robot.pose,
+            hit="wall" if what == "walls" else "obstacle",
+            index=i,
+            kind=kind,
+            line=self.spec.line_of(*solid.key),
+        )
 
     def _on_separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
         index = self._other(arbiter)
@@ -226,6 +276,7 @@ class World:
             (px, py), (tx, ty) = m.position, m.route.position_at(t_next)
             set_velocity(m.body, ((tx - px) / h, (ty - py) / h))
             m.position = (tx, ty)
+        self._ns_after_step = self._ns + ns
         self.space.step(h)
         self._ns += ns
 

@@ -10,7 +10,9 @@ by `World` against the physics, with the line of `robot.pose`.
 
 from __future__ import annotations
 
+import itertools
 import math
+import warnings
 from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
@@ -19,7 +21,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model_validator
 
-from ..core.errors import WorldError
+from ..core.errors import BtnavWarning, WorldError
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import line_at, load_yaml, load_yaml_text
 
@@ -77,7 +79,8 @@ Point = Annotated[tuple[Coord, Coord], _numbers(2, "a point is [x, y]")]
 def signed_area(points: np.ndarray) -> float:
     """Shoelace area: positive for counter-clockwise vertices."""
     x, y = points[:, 0], points[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    # products and numpy's sum, not np.dot (BLAS: CPU-dependent bits; it sets polygon masses)
+    return 0.5 * float((x * np.roll(y, -1)).sum() - (np.roll(x, -1) * y).sum())
 
 
 def crossing_edges(points: np.ndarray) -> tuple[int, int] | None:
@@ -354,6 +357,7 @@ class WorldSpec(StrictModel):
 
     _doc: Any = PrivateAttr(default=None)
     _file: str | None = PrivateAttr(default=None)
+    _warnings: list[BtnavWarning] = PrivateAttr(default_factory=list)
 
     @field_validator("bounds")
     @classmethod
@@ -368,6 +372,12 @@ class WorldSpec(StrictModel):
     @property
     def file(self) -> str | None:
         return self._file
+
+    @property
+    def load_warnings(self) -> list[BtnavWarning]:
+        """What loading found odd but allowed (a moving obstacle's route through a wall);
+        each was also given to `warnings.warn`, which the CLI prints as one line."""
+        return list(self._warnings)
 
     def line_of(self, *path: str | int) -> int | None:
         """The line in the world file of the deepest part of `path` that exists."""
@@ -389,11 +399,191 @@ class WorldSpec(StrictModel):
         spec = validate(cls, doc, file=name, error_cls=WorldError)
         spec._doc = doc
         spec._file = name
+        spec._warnings = route_crossings(spec)
+        for warning in spec._warnings:
+            warnings.warn(warning, stacklevel=2)
         return spec
 
     @classmethod
     def from_text(cls, text: str | bytes, file: str | PathLike[str] | None = None) -> WorldSpec:
         return cls.from_doc(load_yaml_text(text, file), file)
+
+
+# -- moving obstacles' routes -------------------------------------------------------------
+
+Vec = tuple[float, float]
+#: Overlaps shallower than this (m) are touching, not crossing.
+CROSSING_TOLERANCE = 1e-6
+
+
+def _cross(o: Vec, a: Vec, b: Vec) -> float:
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+def _point_segment_distance(p: Vec, a: Vec, b: Vec) -> float:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length2 = dx * dx + dy * dy
+    t = 0.0 if length2 == 0.0 else ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2
+    t = min(1.0, max(0.0, t))
+    return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
+
+
+def _segments_cross(a: Vec, b: Vec, c: Vec, d: Vec) -> bool:
+    """Whether segments ab and cd cross at a point inside both (touching does not count)."""
+    d1, d2 = _cross(c, d, a), _cross(c, d, b)
+    d3, d4 = _cross(a, b, c), _cross(a, b, d)
+    return ((d1 > 0 > d2) or (d1 < 0 < d2)) and ((d3 > 0 > d4) or (d3 < 0 < d4))
+
+
+def _segment_distance(a: Vec, b: Vec, c: Vec, d: Vec) -> float:
+    if _segments_cross(a, b, c, d):
+        return 0.0
+    return min(
+        _point_segment_distance(a, c, d),
+        _point_segment_distance(b, c, d),
+        _point_segment_distance(c, a, b),
+        _point_segment_distance(d, a, b),
+    )
+
+
+def _inside(p: Vec, poly: Sequence[Vec]) -> bool:
+    """Strictly inside a simple polygon (even-odd rule)."""
+    inside = False
+    n = len(poly)
+    for i in range(n):
+        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+        if (y1 > p[1]) != (y2 > p[1]):
+            x = x1 + (p[1] - y1) * (x2 - x1) / (y2 - y1)
+            if p[0] < x:
+                inside = not inside
+    return inside
+
+
+def _edges(poly: Sequence[Vec]) -> list[tuple[Vec, Vec]]:
+    return [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
+
+
+def _polygons_overlap(p: Sequence[Vec], q: Sequence[Vec]) -> bool:
+    if any(_segments_cross(a, b, c, d) for a, b in _edges(p) for c, d in _edges(q)):
+        return True
+    return any(_inside(v, q) for v in p) or any(_inside(v, p) for v in q)
+
+
+def _capsule_hits_polygon(a: Vec, b: Vec, r: float, poly: Sequence[Vec]) -> bool:
+    """Whether the segment ab widened by r overlaps the polygon (r = 0: the segment itself)."""
+    if _inside(a, poly) or _inside(b, poly):
+        return True
+    if r <= 0.0:
+        return any(_segments_cross(a, b, c, d) for c, d in _edges(poly))
+    return any(_segment_distance(a, b, c, d) < r - CROSSING_TOLERANCE for c, d in _edges(poly))
+
+
+class _Shapes:
+    """A solid's outline at one place: polygons, and capsules (a, b, r) for its circles."""
+
+    def __init__(self) -> None:
+        self.polygons: list[list[Vec]] = []
+        self.capsules: list[tuple[Vec, Vec, float]] = []
+
+    def box(self) -> tuple[float, float, float, float]:
+        """The bounding box (x_min, y_min, x_max, y_max)."""
+        xs = [x for p in self.polygons for x, _ in p]
+        ys = [y for p in self.polygons for _, y in p]
+        for (ax, ay), (bx, by), r in self.capsules:
+            xs += [min(ax, bx) - r, max(ax, bx) + r]
+            ys += [min(ay, by) - r, max(ay, by) + r]
+        return (min(xs), min(ys), max(xs), max(ys)) if xs else (0.0, 0.0, -1.0, -1.0)
+
+    def hits(self, other: _Shapes) -> bool:
+        (x0, y0, x1, y1), (u0, v0, u1, v1) = self.box(), other.box()
+        if x0 > u1 or u0 > x1 or y0 > v1 or v0 > y1:
+            return False
+        for a, b, r in self.capsules:
+            for c, d, r2 in other.capsules:
+                if _segment_distance(a, b, c, d) < r + r2 - CROSSING_TOLERANCE:
+                    return True
+            if any(_capsule_hits_polygon(a, b, r, q) for q in other.polygons):
+                return True
+        for p in self.polygons:
+            if any(_capsule_hits_polygon(c, d, r, p) for c, d, r in other.capsules):
+                return True
+            if any(_polygons_overlap(p, q) for q in other.polygons):
+                return True
+        return False
+
+
+def _placed(solid: Any, at: Vec) -> _Shapes:
+    shapes = _Shapes()
+    for outline in solid.outlines:
+        shapes.polygons.append([(float(x) + at[0], float(y) + at[1]) for x, y in outline])
+    for x, y, r in solid.circles:
+        centre = (float(x) + at[0], float(y) + at[1])
+        shapes.capsules.append((centre, centre, float(r)))
+    return shapes
+
+
+def _swept(solid: Any, a: Vec, b: Vec) -> _Shapes:
+    """Everything `solid` covers while its reference point moves straight from a to b: its
+    outline at both ends, the parallelogram each edge sweeps, each circle's capsule."""
+    shapes = _Shapes()
+    da, db = _placed(solid, a), _placed(solid, b)
+    shapes.polygons += da.polygons + db.polygons
+    for poly_a, poly_b in zip(da.polygons, db.polygons, strict=True):
+        for (p, q), (p2, q2) in zip(_edges(poly_a), _edges(poly_b), strict=True):
+            if _cross(p, q, q2) != 0.0:  # an edge moving along itself sweeps no area
+                shapes.polygons.append([p, q, q2, p2])
+    for (c, _, r), (c2, _, _) in zip(da.capsules, db.capsules, strict=True):
+        shapes.capsules.append((c, c2, r))
+    return shapes
+
+
+def route_crossings(spec: WorldSpec) -> list[BtnavWarning]:
+    """A warning for each moving obstacle whose route goes through a wall or a static
+    obstacle: nothing stops a moving obstacle, so it passes through, which is seldom meant.
+
+    The warning is placed at the mover's `moves` line and names the static one's line.
+    """
+    if not any(entry.moves is not None for entry in spec.obstacles):
+        return []
+    from .moving import Route  # they build on this module's specs
+    from .scene import build_solids
+
+    solids = build_solids(spec)
+    static = [
+        (s, _placed(s, (float(s.origin[0]), float(s.origin[1])))) for s in solids if s.moves is None
+    ]
+    found: list[BtnavWarning] = []
+    for solid in solids:
+        if solid.moves is None:
+            continue
+        points = [(float(x), float(y)) for x, y in Route(solid.origin, solid.moves).points]
+        legs = list(itertools.pairwise(points)) or [(points[0], points[0])]
+        swept = [(leg, _swept(solid, *leg)) for leg in legs]
+        index = int(solid.key[1])
+        kind = spec.obstacles[index].kind
+        for other, shape in static:
+            leg = next((leg for leg, covered in swept if covered.hits(shape)), None)
+            if leg is None:
+                continue
+            group, at = other.key
+            what = (
+                f"walls[{at}]"
+                if group == "walls"
+                else f"the {spec.obstacles[int(at)].kind} {group}[{at}]"
+            )
+            line = spec.line_of(*other.key)
+            (x0, y0), (x1, y1) = leg
+            found.append(
+                BtnavWarning(
+                    f"the route of this moving {kind} goes through {what}"
+                    f"{f' (line {line})' if line else ''} on its way from ({x0:g}, {y0:g}) to "
+                    f"({x1:g}, {y1:g}); moving obstacles pass through whatever is in their way",
+                    file=spec.file,
+                    line=spec.line_of("obstacles", index, kind, "moves"),
+                    key=["obstacles", index, kind, "moves"],
+                )
+            )
+    return found
 
 
 def load_world_spec(path: str | PathLike[str]) -> WorldSpec:

@@ -1,21 +1,44 @@
 """`run.png`, the `png` output of a run: the world as the run left it, and where the robot went.
 
 Registered as the `png` output plugin (the `viz` entry point), so a mission asks for it
-with `outputs: [report, png]`. The ground-truth path is solid, the localiser's estimate
-dashed, the task's poses numbered; the title is the run's result.
+with `outputs: [report, png]`. Under the world lies the inflated global costmap (what
+the planner saw); over it the last global plan, the ground-truth path (solid), the
+localiser's estimate (dashed, another colour), the task's poses numbered and every
+contact as a red X naming what was hit. The title is the run's result.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from ..costmap.cost_values import FREE_SPACE, NO_INFORMATION
 from ..mission.outputs import RunOutput
 from ..plugins import register
 from .world_plot import _figsize, _matplotlib, draw_world
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
 PATH_COLOR = "#1f5fbf"
-ESTIMATE_COLOR = "#555555"
+ESTIMATE_COLOR = "#17becf"
+PLAN_COLOR = "#2ca02c"
 GOAL_COLOR = "#2ca02c"
+CONTACT_COLOR = "#d62728"
+COSTMAP_CMAP = "Purples"
+COSTMAP_ALPHA = 0.45
+#: Inches added on the right for the legend, so it covers nothing.
+LEGEND_WIDTH = 2.0
+#: Contacts beyond this many get their X but no text, so the picture stays readable.
+MAX_CONTACT_LABELS = 12
+
+LEGEND_PATH = "path (ground truth)"
+LEGEND_ESTIMATE = "estimate (localisation)"
+LEGEND_PLAN = "global plan (last)"
+LEGEND_COSTMAP = "global costmap (inflated)"
+LEGEND_CONTACT = "contact"
 
 
 @register("output", "png")
@@ -28,73 +51,158 @@ class RunPicture:
         _matplotlib()
 
     def write(self, run: RunOutput) -> None:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        world = run.navigator.world
-        fig = Figure(figsize=_figsize(world))
-        FigureCanvasAgg(fig)
-        ax = fig.add_subplot(1, 1, 1)
-        draw_world(world, ax=ax)
-        track = run.track
-        if len(track):
-            ax.plot(
-                track[:, 1],
-                track[:, 2],
-                color=PATH_COLOR,
-                linewidth=1.4,
-                zorder=4,
-                label="path (ground truth)",
-            )
-            ax.plot(
-                track[:, 4],
-                track[:, 5],
-                color=ESTIMATE_COLOR,
-                linewidth=0.8,
-                linestyle="--",
-                zorder=4,
-                label="estimate",
-            )
-            ax.plot(
-                track[0, 1],
-                track[0, 2],
-                marker="s",
-                color=PATH_COLOR,
-                markersize=6,
-                zorder=6,
-                label="start",
-            )
-        for i, (x, y, _yaw) in enumerate(run.mission.spec.task.poses, start=1):
-            ax.plot(
-                x,
-                y,
-                marker="*",
-                color=GOAL_COLOR,
-                markersize=11,
-                zorder=7,
-                label="goal" if i == 1 else None,
-            )
-            ax.annotate(
-                str(i),
-                (x, y),
-                xytext=(5, 5),
-                textcoords="offset points",
-                fontsize=8,
-                color=GOAL_COLOR,
-                zorder=7,
-            )
-        ax.set_title(_title(run.report), fontsize=9)
-        handles, labels = ax.get_legend_handles_labels()
-        unique = dict(zip(labels, handles, strict=True))
-        ax.legend(unique.values(), unique.keys(), loc="upper right", fontsize=7, framealpha=0.85)
-        fig.tight_layout()
+        fig = draw_run(run)
         fig.savefig(run.out_dir / self.files[0], dpi=120)
+
+
+def draw_run(run: RunOutput) -> Figure:
+    """The picture of a run, as an Agg `Figure` (what `run.png` saves; tests read its artists)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    world = run.navigator.world
+    width, height = _figsize(world)
+    fig = Figure(figsize=(width + LEGEND_WIDTH, height))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    draw_world(world, ax=ax)
+    _draw_costmap(ax, run.navigator.stack.global_costmap.costmap)
+    plan = run.plan
+    if len(plan):
+        ax.plot(
+            plan[:, 0],
+            plan[:, 1],
+            color=PLAN_COLOR,
+            linewidth=1.2,
+            linestyle="-.",
+            alpha=0.9,
+            zorder=3,
+            label=LEGEND_PLAN,
+        )
+    track = run.track
+    if len(track):
+        ax.plot(
+            track[:, 1],
+            track[:, 2],
+            color=PATH_COLOR,
+            linewidth=2.2,
+            zorder=4,
+            label=LEGEND_PATH,
+        )
+        ax.plot(
+            track[:, 4],
+            track[:, 5],
+            color=ESTIMATE_COLOR,
+            linewidth=1.0,
+            linestyle=(0, (4, 2)),
+            zorder=4.5,
+            label=LEGEND_ESTIMATE,
+        )
+        ax.plot(
+            track[0, 1],
+            track[0, 2],
+            marker="s",
+            color=PATH_COLOR,
+            markersize=6,
+            zorder=6,
+            label="start",
+        )
+    for i, (x, y, _yaw) in enumerate(run.mission.spec.task.poses, start=1):
+        ax.plot(
+            x,
+            y,
+            marker="*",
+            color=GOAL_COLOR,
+            markersize=11,
+            zorder=7,
+            label="goal" if i == 1 else None,
+        )
+        ax.annotate(
+            str(i),
+            (x, y),
+            xytext=(5, 5),
+            textcoords="offset points",
+            fontsize=8,
+            color=GOAL_COLOR,
+            zorder=7,
+        )
+    _draw_contacts(ax, world.contacts)
+    ax.set_title(_title(run.report), fontsize=9)
+    handles, labels = ax.get_legend_handles_labels()
+    from matplotlib.patches import Patch
+
+    handles.append(Patch(facecolor="#6a51a3", alpha=COSTMAP_ALPHA, label=LEGEND_COSTMAP))
+    labels.append(LEGEND_COSTMAP)
+    unique = dict(zip(labels, handles, strict=True))
+    ax.legend(
+        unique.values(),
+        unique.keys(),
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize=7,
+        framealpha=0.85,
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _draw_costmap(ax: Axes, costmap: Any) -> None:
+    """The costmap under the world's solids, free and unknown cells left clear."""
+    costs = np.asarray(costmap.costs)
+    shown = np.ma.masked_where((costs == FREE_SPACE) | (costs == NO_INFORMATION), costs)
+    x0, y0 = costmap.origin_x, costmap.origin_y
+    x1 = x0 + costs.shape[1] * costmap.resolution
+    y1 = y0 + costs.shape[0] * costmap.resolution
+    xlim, ylim = ax.get_xlim(), ax.get_ylim()
+    ax.imshow(
+        shown,
+        origin="lower",
+        extent=(x0, x1, y0, y1),
+        cmap=COSTMAP_CMAP,
+        vmin=0,
+        vmax=NO_INFORMATION - 1,
+        alpha=COSTMAP_ALPHA,
+        interpolation="nearest",
+        zorder=0.5,  # over the floor, under routes (1) and solids (2)
+    )
+    ax.set_xlim(xlim)
+    ax.set_ylim(ylim)
+
+
+def _draw_contacts(ax: Axes, contacts: list[Any]) -> None:
+    """A red X where the robot was when each contact began, named by what it hit."""
+    for n, c in enumerate(contacts):
+        ax.plot(
+            c.pose.x,
+            c.pose.y,
+            marker="x",
+            markersize=12,
+            markeredgewidth=2.5,
+            color=CONTACT_COLOR,
+            linestyle="none",
+            zorder=8,
+            label=f"{LEGEND_CONTACT} ({len(contacts)})" if n == 0 else None,
+        )
+        if n < MAX_CONTACT_LABELS:
+            line = f", line {c.line}" if c.line else ""
+            ax.annotate(
+                f"{c.label}{line}\n{c.time:.1f} s",
+                (c.pose.x, c.pose.y),
+                xytext=(7, -14),
+                textcoords="offset points",
+                fontsize=7,
+                color=CONTACT_COLOR,
+                fontweight="bold",
+                zorder=8,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.75},
+            )
 
 
 def _title(report: Any) -> str:
     code = f", error {report.error_code}" if report.error_code is not None else ""
+    n, r = report.collisions, report.recoveries
     return (
         f"{report.mission}: {report.status}{code}, {report.sim_time:.1f} s, "
-        f"{report.path_length:.1f} m, {report.collisions} collisions, "
-        f"{report.recoveries} recoveries"
+        f"{report.path_length:.1f} m, {n} collision{'s' if n != 1 else ''}, "
+        f"{r} recover{'ies' if r != 1 else 'y'}"
     )

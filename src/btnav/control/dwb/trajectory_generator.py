@@ -17,6 +17,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ...core import fmath
 from ...core.geometry import Pose2D
 from ...core.messages import Twist
 from .critic import Trajectories
@@ -42,7 +43,7 @@ def sample_velocities(p, velocity: Twist, acc_time: float) -> NDArray[np.float64
             axes.append(np.linspace(a, b, int(n)))
     vx, vy, w = np.meshgrid(*axes, indexing="ij")
     v = np.stack([vx.ravel(), vy.ravel(), w.ravel()], axis=-1)
-    speed = np.hypot(v[:, 0], v[:, 1])
+    speed = fmath.hypot(v[:, 0], v[:, 1])
     ok = np.ones(len(v), bool)
     if p.max_speed_xy >= 0.0:
         ok &= speed <= p.max_speed_xy + 1e-9
@@ -58,7 +59,7 @@ def simulate(
     if p.discretize_by_time:
         steps = max(math.ceil(sim / p.time_granularity), 1)
     else:
-        lin = np.hypot(samples[:, 0], samples[:, 1]).max(initial=0.0) * sim
+        lin = fmath.hypot(samples[:, 0], samples[:, 1]).max(initial=0.0) * sim
         ang = np.abs(samples[:, 2]).max(initial=0.0) * sim
         steps = max(
             math.ceil(lin / p.linear_granularity), math.ceil(ang / p.angular_granularity), 1
@@ -79,7 +80,7 @@ def simulate(
     theta = pose.yaw + np.concatenate(
         [np.zeros((len(samples), 1)), np.cumsum(vel[..., 2] * dt, axis=1)], axis=1
     )
-    c, s = np.cos(theta[:, :-1]), np.sin(theta[:, :-1])
+    s, c = fmath.sincos(theta[:, :-1])
     dx = (vel[..., 0] * c - vel[..., 1] * s) * dt
     dy = (vel[..., 0] * s + vel[..., 1] * c) * dt
     poses = np.empty((len(samples), steps + 1, 3))

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ...core import fmath
 from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ...costmap.costmap_2d import Costmap2D
 
@@ -65,7 +66,7 @@ class CriticData:
     def distance_to_goal(self) -> float:
         """Robot to the global goal (what `threshold_to_consider` is compared with)."""
         if self._goal_dist is None:
-            self._goal_dist = float(np.hypot(*(self.goal[:2] - self.robot[:2])))
+            self._goal_dist = fmath.hypot(*(self.goal[:2] - self.robot[:2]).tolist())
         return self._goal_dist
 
     def furthest_reached_path_point(self) -> int:

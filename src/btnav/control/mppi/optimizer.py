@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ...core import fmath
 from ...costmap.costmap_2d import Costmap2D
 from .critic_data import CriticData, cell_costs, in_collision, tracking_unknown
 from .critic_function import CriticFunction
@@ -212,7 +213,7 @@ class Optimizer:
         heading = np.empty_like(yaw)
         heading[0] = yaw0
         heading[1:] = yaw[:-1]
-        cos, sin = np.cos(heading), np.sin(heading)
+        sin, cos = fmath.sincos(heading)  # not np.sin/np.cos: the same bits on every CPU
         vx = v[:, 0]
         np.multiply(vx, cos, out=pos[:, 0])
         np.multiply(vx, sin, out=pos[:, 1])
@@ -235,12 +236,15 @@ class Optimizer:
                 if std <= 0.0:
                     continue
                 uc = seq[:, ch]
-                # sum_t (sampled - u) u = u . sampled - u . u  (one BLAS product for the batch)
-                costs += np.float32(s.gamma / std**2) * (uc @ u[:, ch] - np.float32(uc @ uc))
+                # sum_t (sampled - u) u = u . sampled - u . u, as elementwise products and
+                # sums (a BLAS product's summation order depends on the CPU)
+                cost = fmath.weighted_sum(u[:, ch], uc, axis=0)
+                cost -= np.float32(fmath.weighted_sum(uc, uc))
+                costs += np.float32(s.gamma / std**2) * cost
         shifted = costs - costs.min()
-        weights = np.exp(shifted * np.float32(-1.0 / s.temperature))
+        weights = fmath.exp(shifted * np.float32(-1.0 / s.temperature))
         weights /= weights.sum()
-        mean = u @ weights  # (T, C)
+        mean = fmath.weighted_sum(u, weights)  # (T, C)
         cs[:, 0] = mean[:, 0]
         cs[:, 2] = mean[:, 1]
         if self.holonomic:

@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ...core import fmath
+
 
 def first_inversion(poses: NDArray[np.float64]) -> int | None:
     """Index of the first cusp (the direction of travel reverses there), or None."""
@@ -65,13 +67,13 @@ class PathPruner:
                 self.start = 0
                 self.inversion = first_inversion(plan)
                 end = len(plan) if self.inversion is None else self.inversion + 1
-        seg = np.hypot(*np.diff(plan[:, :2], axis=0).T)
+        seg = fmath.hypot(*np.diff(plan[:, :2], axis=0).T)
         s = np.concatenate([[0.0], np.cumsum(seg)])
         search = self.max_search_dist or default_search
         stop = int(np.searchsorted(s, s[self.start] + search, side="right"))
         stop = max(min(stop, end), self.start + 1)
         window = plan[self.start : stop, :2]
-        nearest = self.start + int(np.argmin(np.hypot(*(window - robot[:2]).T)))
+        nearest = self.start + int(np.argmin(fmath.hypot(*(window - robot[:2]).T)))
         self.start = nearest
         last = int(np.searchsorted(s, s[nearest] + self.prune_distance, side="right"))
         last = max(min(last, end), nearest + 1)

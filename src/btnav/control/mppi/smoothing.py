@@ -14,5 +14,9 @@ def savitzky_golay(sequence: NDArray[np.float32], history: NDArray[np.float32]) 
     """Smooth `sequence` (T, C) in place; its past is `history` (4, C), its future the last value held."""
     t = sequence.shape[0]
     padded = np.concatenate([history, sequence, np.repeat(sequence[-1:], HISTORY, axis=0)], axis=0)
-    for ch in range(sequence.shape[1]):
-        sequence[:, ch] = np.convolve(padded[:, ch], SG_WINDOW, mode="valid")[:t]
+    # The window's taps added in order (np.convolve sums with BLAS: CPU-dependent bits);
+    # the window is symmetric, so this is the convolution.
+    out = padded[:t] * SG_WINDOW[0]
+    for j in range(1, len(SG_WINDOW)):
+        out += padded[j : j + t] * SG_WINDOW[j]
+    sequence[...] = out

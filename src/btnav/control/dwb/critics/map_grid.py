@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from pydantic import Field
 from scipy.spatial import cKDTree
 
+from ....core import fmath
 from ....costmap.cost_values import NO_INFORMATION
 from ....costmap.costmap_2d import Costmap2D
 from ....params.schema import one_of
@@ -23,7 +24,7 @@ def dense_plan(plan: NDArray[np.float64], resolution: float) -> NDArray[np.float
     if len(plan) < 2:
         return plan[:, :2]
     seg = np.diff(plan[:, :2], axis=0)
-    n = np.maximum(np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / resolution).astype(int), 1)
+    n = np.maximum(np.ceil(fmath.hypot(seg[:, 0], seg[:, 1]) / resolution).astype(int), 1)
     idx = np.repeat(np.arange(len(seg)), n)
     frac = (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
     pts = plan[idx, :2] + seg[idx] * frac[:, None]
@@ -89,7 +90,8 @@ class MapGridCritic(TrajectoryCritic):
             poses = poses[:, -1:, :]
         d = self.forward_distance
         if d:
-            xy = poses[..., :2] + d * np.stack([np.cos(poses[..., 2]), np.sin(poses[..., 2])], -1)
+            s, c = fmath.sincos(poses[..., 2])
+            xy = poses[..., :2] + d * np.stack([c, s], -1)
         else:
             xy = poses[..., :2]
         return xy

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
+from ....core import fmath
 from ....plugins import register
 from ..critic_data import CriticData
 from ..critic_function import NAMESPACE, CriticFunction
@@ -22,5 +23,5 @@ class GoalCritic(CriticFunction):
         if not self.enabled or data.distance_to_goal() >= self.params.threshold_to_consider:
             return
         gx, gy = np.float32(data.goal[0]), np.float32(data.goal[1])
-        dist = np.hypot(data.x - gx, data.y - gy)
+        dist = fmath.hypot(data.x - gx, data.y - gy)
         self.add(data, dist.mean(axis=1))

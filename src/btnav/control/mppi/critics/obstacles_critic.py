@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 from pydantic import Field
 
+from ....core import fmath
 from ....costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from ....params.schema import ignored
 from ....plugins import register
@@ -39,6 +41,22 @@ class ObstaclesCritic(CriticFunction):
         trajectory_point_step: int = Field(1, ge=1)
         inflation_layer_name: str = ignored("", "btnav reads the critic's own inflation keys")
 
+    def _distances(self) -> NDArray[np.float32]:
+        """The distance each cost value (0..255) stands for, computed once per parameters:
+        cost = 252 exp(-k (d - r))  =>  d = r - ln(cost / 252) / k; free cells are far.
+        (A table lookup, and `fmath.log`: np.log's bits depend on the CPU.)"""
+        p = self.params
+        key = (p.inscribed_radius, p.cost_scaling_factor, p.inflation_radius)
+        if getattr(self, "_table_key", None) != key:
+            costs = np.arange(256)
+            c = np.clip(costs.astype(np.float32), 1.0, INSCRIBED_INFLATED_OBSTACLE - 1)
+            dist = np.float32(p.inscribed_radius) - fmath.log(c / np.float32(252.0)) / np.float32(
+                p.cost_scaling_factor
+            )
+            self._table = np.where(costs == 0, np.float32(p.inflation_radius), dist)
+            self._table_key = key
+        return self._table
+
     def score(self, data: CriticData) -> None:
         if not self.enabled:
             return
@@ -50,12 +68,7 @@ class ObstaclesCritic(CriticFunction):
             consider_footprint=p.consider_footprint,
             tracking_unknown=tracking_unknown(data.costmap),
         ).any(axis=1)
-        c = np.clip(costs.astype(np.float32), 1.0, INSCRIBED_INFLATED_OBSTACLE - 1)
-        # cost = 252 * exp(-k (d - r))  =>  d = r - ln(cost / 252) / k; free cells are far.
-        dist = np.float32(p.inscribed_radius) - np.log(c / np.float32(252.0)) / np.float32(
-            p.cost_scaling_factor
-        )
-        dist = np.where(costs == 0, np.float32(p.inflation_radius), dist)
+        dist = self._distances()[costs]
         margin = np.float32(p.collision_margin_distance)
         critical = np.where(dist < margin, margin - dist, np.float32(0.0)).sum(axis=1)
         repulsive = np.zeros_like(critical)

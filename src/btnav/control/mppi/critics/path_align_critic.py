@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
+from ....core import fmath
 from ....plugins import register
 from ..angles import abs_angle_diff
 from ..critic_data import CriticData
@@ -67,20 +68,20 @@ class PathAlignCritic(CriticFunction):
         if blocked > 2 and blocked / (n - 1) > p.max_path_occupancy_ratio:
             return
         path = data.path
-        seg = np.hypot(np.diff(path[:, 0]), np.diff(path[:, 1]))
+        seg = fmath.hypot(np.diff(path[:, 0]), np.diff(path[:, 1]))
         path_s = np.concatenate([[0.0], np.cumsum(seg)]).astype(np.float32)
         step = p.trajectory_point_step
         # Work time-major, (K, B): each sampled time step is one contiguous row.
         xs = np.ascontiguousarray(data.x.T[::step])
         ys = np.ascontiguousarray(data.y.T[::step])
-        seg_t = np.hypot(xs[1:] - xs[:-1], ys[1:] - ys[:-1])
+        seg_t = fmath.hypot(xs[1:] - xs[:-1], ys[1:] - ys[:-1])
         for k in range(1, len(seg_t)):
             seg_t[k] += seg_t[k - 1]
         traj_s = seg_t  # travelled distance at sampled points 1..K-1
         xs, ys = xs[1:], ys[1:]
         idx = nearest_by_arc_length(path_s, traj_s)
         px, py = np.ascontiguousarray(path[:, 0]), np.ascontiguousarray(path[:, 1])
-        d = np.hypot(xs - px[idx], ys - py[idx])
+        d = fmath.hypot(xs - px[idx], ys - py[idx])
         if p.use_path_orientations:
             yaws = data.yaws.T[::step][1:]
             d = d + abs_angle_diff(yaws, np.ascontiguousarray(path[:, 2])[idx])

@@ -7,6 +7,7 @@ import math
 import numpy as np
 from pydantic import Field
 
+from ....core import fmath
 from ....plugins import register
 from ..angles import abs_angle_diff
 from ..critic_data import CriticData
@@ -72,7 +73,7 @@ class PathAngleCritic(CriticFunction):
             angle = math.pi - fwd if reverse else fwd
         if angle < p.max_angle_to_furthest:
             return
-        to_goal = np.arctan2(np.float32(gy) - data.y, np.float32(gx) - data.x)
+        to_goal = fmath.arctan2(np.float32(gy) - data.y, np.float32(gx) - data.x)
         err = abs_angle_diff(data.yaws, to_goal)
         if mode == NO_DIRECTIONAL_PREFERENCE:
             err = np.minimum(err, np.float32(math.pi) - err)

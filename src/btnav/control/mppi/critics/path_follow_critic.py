@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
 from pydantic import Field
 
+from ....core import fmath
 from ....plugins import register
 from ..critic_data import CriticData
 from ..critic_function import NAMESPACE, CriticFunction
@@ -33,4 +33,4 @@ class PathFollowCritic(CriticFunction):
         while idx < n - 1 and not valid[idx]:
             idx += 1
         px, py = data.path[idx, 0], data.path[idx, 1]
-        self.add(data, np.hypot(data.x[:, -1] - px, data.y[:, -1] - py))
+        self.add(data, fmath.hypot(data.x[:, -1] - px, data.y[:, -1] - py))
