@@ -57,11 +57,7 @@ def main() -> None:
         results = list(pool.map(run_one, *zip(*jobs, strict=True)))
     for c in controllers:
         rows = [r for r in results if r[0] == c]
-        bad = [
-            r
-            for r in rows
-            if r[2] != "succeeded" or r[4] > 0 or r[3] > TARGET_SIM_TIME
-        ]
+        bad = [r for r in rows if r[2] != "succeeded" or r[4] > 0 or r[3] > TARGET_SIM_TIME]
         slowest = max(r[3] for r in rows)
         passes = len(rows) - len(bad)
         print(
@@ -69,7 +65,9 @@ def main() -> None:
             f"slowest {slowest:.1f} s sim (target <= {TARGET_SIM_TIME:g})"
         )
         for _, seed, status, sim, contacts, rec in bad:
-            print(f"      seed {seed}: {status}, {sim:.1f} s, {contacts} contacts, {rec} recoveries")
+            print(
+                f"      seed {seed}: {status}, {sim:.1f} s, {contacts} contacts, {rec} recoveries"
+            )
 
 
 if __name__ == "__main__":

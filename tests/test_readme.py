@@ -73,7 +73,9 @@ def test_readme_params_check_example_is_what_params_check_prints(tmp_path, capsy
     command, claimed = printed_after("and the command exits 2:")[:2]
     name = command.split()[-1]
     nav2 = (REPO / "params" / "nav2_params.yaml").read_text()
-    (tmp_path / name).write_text(nav2.replace("controller_frequency: 20.0", "controller_frequncy: 20.0"))
+    (tmp_path / name).write_text(
+        nav2.replace("controller_frequency: 20.0", "controller_frequncy: 20.0")
+    )
     monkeypatch.chdir(tmp_path)
     assert main(command.split()[2:]) == 2  # "$ btnav params check FILE"
     assert capsys.readouterr().err.strip() == claimed

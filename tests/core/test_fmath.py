@@ -220,6 +220,24 @@ def test_python_float_path_of_arctan2_gives_the_array_path_bits():
     assert np.array_equal(np.signbit(got[ok]), np.signbit(ref[ok]))
 
 
+def test_python_floats_take_the_same_path_and_sincos_remembers_them(monkeypatch):
+    """The public functions on Python floats give the kernels' bits; sincos keeps what it
+    has seen (zeros excepted: 0.0 and -0.0 are one key) and starts over when full."""
+    monkeypatch.setattr(fmath, "_SINCOS_MEMO", {})
+    monkeypatch.setattr(fmath, "_MEMO_MAX", 8)
+    xs = [*np.random.default_rng(7).uniform(-10, 10, 20).tolist(), 0.0, -0.0, math.inf, math.nan]
+    for x in xs + xs:  # the second pass is answered from the memo, then refilled
+        assert same_bits(np.array(fmath.sincos(x)), np.array(fmath._sincos_py(x)))
+        assert same_bits(np.array(fmath.sin(x)), np.array(fmath.sincos(np.array([x]))[0][0]))
+        assert same_bits(np.array(fmath.exp(x)), np.array(fmath._exp_py(x)))
+        assert same_bits(np.array(fmath.arctan2(x, 0.5)), np.array(fmath._atan2_py(x, 0.5)))
+    assert 0 < len(fmath._SINCOS_MEMO) <= 8 and 0.0 not in fmath._SINCOS_MEMO
+    assert math.copysign(1.0, fmath.sin(-0.0)) == -1.0
+    assert math.copysign(1.0, fmath.sin(0.0)) == 1.0
+    for x in xs[:8]:
+        assert same_bits(np.array(fmath.log(abs(x))), np.array(fmath._log_py(abs(x))))
+
+
 def test_blocks_do_not_change_the_bits():
     x = RNG.uniform(-50, 50, 3 * fmath._BLOCK + 17)
     whole = fmath.sincos(x)
@@ -312,9 +330,12 @@ def test_same_bits_without_avx2_and_with_generic_blas():
     if off is None or off["x86_v3"]:
         pytest.skip("numpy refused or ignored NPY_DISABLE_CPU_FEATURES=X86_V3")
     generic = _run({"OPENBLAS_CORETYPE": "Prescott", "OPENBLAS_NUM_THREADS": "1"})
+    # glibc's libm without its FMA variants (as on a CPU without FMA): fmath uses no libm
+    no_fma = _run({"GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA"})
     for key in ("float64", "float32"):
         assert off[key] == base[key], f"{key}: fmath's bits change without AVX2"
         assert generic[key] == base[key], f"{key}: fmath's bits change with generic BLAS"
+        assert no_fma[key] == base[key], f"{key}: fmath's bits change with libm's variant"
 
 
 def test_digest_helper_is_stable():

@@ -34,8 +34,9 @@ def bt_log(out: Path) -> list[dict]:
     return [json.loads(line) for line in (out / "bt_log.jsonl").read_text().splitlines()]
 
 
+@pytest.mark.parametrize("seed", [0, 1])
 def test_the_office_tour_with_nav2s_xml_tree_reaches_every_waypoint_untouched(
-    tmp_path, nav2_dir, capsys
+    tmp_path, nav2_dir, capsys, seed
 ):
     tree = nav2_dir / "behavior_trees" / "navigate_to_pose_w_replanning_and_recovery.xml"
     tour = Mission.load(TOUR)
@@ -46,6 +47,7 @@ def test_the_office_tour_with_nav2s_xml_tree_reaches_every_waypoint_untouched(
         initial_pose=list(tour.spec.initial_pose),
         task={"follow_waypoints": [list(p) for p in tour.spec.task.poses]},
         time_limit=300,
+        seed=seed,
     )
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out)]) == 0
@@ -133,9 +135,9 @@ def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path, controller, see
 
 #: sha256 of trajectory.csv of `short_run` (seed 0). Every closed-loop computation is IEEE
 #: arithmetic in a fixed order (btnav.core.fmath, no SIMD-dispatched numpy kernel, no
-#: BLAS), so any x86-64 machine gives these bytes. If a change alters the trajectory on
+#: BLAS, no libm sin/cos/atan2/exp/log), so any x86-64 machine gives these bytes. If a change alters the trajectory on
 #: purpose, run this test, check the run still looks right and paste the new digest.
-SHORT_RUN_DIGEST = "33db98adf1fc88b09377f66d7ffd94a0c9cf081ccbb1309479236ed9e5977a3d"
+SHORT_RUN_DIGEST = "bedf4a76811b71ad88c923593f1619ba04c0a0bb89ac44c0000fd4c9bd06228d"
 
 SHORT_RUN = """
 import hashlib, sys
@@ -172,11 +174,15 @@ def test_a_short_runs_trajectory_is_pinned(tmp_path):
 
 
 @pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"), reason="x86-64 SIMD levels")
-def test_the_trajectory_does_not_depend_on_numpys_simd_level(tmp_path):
-    # numpy dispatches its kernels on the CPU's SIMD level at run time; with AVX2 and FMA
-    # switched off it runs as on an older CPU. The trajectory must not notice.
-    assert short_run_digest(tmp_path / "v2", NPY_DISABLE_CPU_FEATURES="X86_V3") == (
-        short_run_digest(tmp_path / "v3")
+def test_the_trajectory_does_not_depend_on_the_cpus_simd_or_fma_level(tmp_path):
+    # numpy dispatches its kernels on the CPU's SIMD level at run time, and glibc picks an
+    # FMA or a non-FMA variant of sin, cos, atan2, exp and log (Python's math module) by
+    # CPU; with AVX2 and FMA switched off for either, it runs as on an older CPU. The
+    # trajectory must not notice.
+    native = short_run_digest(tmp_path / "native")
+    assert short_run_digest(tmp_path / "numpy", NPY_DISABLE_CPU_FEATURES="X86_V3") == native
+    assert (
+        short_run_digest(tmp_path / "glibc", GLIBC_TUNABLES="glibc.cpu.hwcaps=-AVX2,-FMA") == native
     )
 
 
@@ -216,9 +222,10 @@ def test_navigator_from_mission_is_the_python_api(tmp_path):
     assert math.hypot(nav.robot_pose.x - 3.0, nav.robot_pose.y - 2.0) <= TOLERANCE
 
 
-def test_navigate_through_poses_passes_each_pose_in_one_goal(tmp_path):
+@pytest.mark.parametrize("seed", [0, 1])
+def test_navigate_through_poses_passes_each_pose_in_one_goal(tmp_path, seed):
     poses = [[3.0, 2.0, 1.57], [6.0, 3.0, 0.0]]
-    path = write_mission(tmp_path, "through", task={"navigate_through_poses": poses})
+    path = write_mission(tmp_path, "through", task={"navigate_through_poses": poses}, seed=seed)
     out = tmp_path / "out"
     report = run_mission(Mission.load(path), out)
     assert report.succeeded and report.collisions == 0 and report.goals == 2

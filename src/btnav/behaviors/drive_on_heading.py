@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..plugins import register
 from .behavior import Behavior, BehaviorOutcome
@@ -125,10 +126,11 @@ class DriveOnHeading(Behavior):
             k = np.arange(max(1, int(self.cycle_frequency * self.server.simulate_ahead_time)))
             d = v * k / self.cycle_frequency
             d = d[np.abs(d) < remaining]  # only the part of the line still to drive
+            s, c = fmath.sincos(pose.yaw)
             poses = np.stack(
                 [
-                    pose.x + d * math.cos(pose.yaw),
-                    pose.y + d * math.sin(pose.yaw),
+                    pose.x + d * c,
+                    pose.y + d * s,
                     np.full(d.shape, pose.yaw),
                 ],
                 axis=1,

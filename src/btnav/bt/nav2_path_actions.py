@@ -66,7 +66,7 @@ class TruncatePath(Nav2Leaf):
             keep -= 1
         out = poses[:keep].copy()
         dx, dy = end[0] - out[-1, 0], end[1] - out[-1, 1]
-        out[-1, 2] = math.atan2(dy, dx) if (dx or dy) else 0.0
+        out[-1, 2] = fmath.arctan2(float(dy), float(dx)) if (dx or dy) else 0.0
         self._set_output("output_path", Path(path.stamp, out, path.frame_id))
         return S
 

@@ -223,7 +223,7 @@ class RegulatedPurePursuitController(Controller):
             window, dx, dy = window[:k], dx[:k], dy[:k]
         # pose.inverse_transform_points and angle_diff, on the differences already taken
         local = np.empty_like(window)
-        c, s = math.cos(yaw), math.sin(yaw)
+        s, c = fmath.sincos(yaw)
         local[:, 0] = c * dx + s * dy
         local[:, 1] = -s * dx + c * dy
         dyaw = window[:, 2] - yaw
@@ -259,7 +259,7 @@ class RegulatedPurePursuitController(Controller):
         goal = Pose2D(*self._plan[-1].tolist())
         transformed = Path(0.0, local, costmap.frame_id)
         length = path_length(local)
-        angle_to_path = math.atan2(rotate_y, rotate_x)
+        angle_to_path = fmath.arctan2(rotate_y, rotate_x)
         if sign < 0:
             angle_to_path = angle_diff(angle_to_path + math.pi, 0.0)
         if p.use_rotate_to_heading and self._goal_xy_reached(
@@ -322,7 +322,7 @@ class RegulatedPurePursuitController(Controller):
         ):
             inscribed = float(getattr(costmap, "inscribed_radius", 0.0) or 0.0)
             k = p.inflation_cost_scaling_factor
-            dist = (k * inscribed - math.log(pose_cost) + math.log(253.0)) / k
+            dist = (k * inscribed - fmath.log(float(pose_cost)) + fmath.log(253.0)) / k
             if dist < p.cost_scaling_dist:
                 cost_vel = v * (p.cost_scaling_gain * dist / p.cost_scaling_dist)
         v = max(min(cost_vel, curvature_vel), p.regulated_linear_scaling_min_speed)
@@ -351,7 +351,7 @@ class RegulatedPurePursuitController(Controller):
         res = costmap.resolution
         if abs(linear) < 0.01 and abs(angular) > 0.01:
             radius = float(getattr(costmap, "circumscribed_radius", 0.0) or res)
-            dt = 2.0 * math.sin((res / 2.0) / max(radius, res)) / abs(angular)
+            dt = 2.0 * fmath.sin((res / 2.0) / max(radius, res)) / abs(angular)
         elif abs(linear) >= 1e-9:
             dt = res / abs(linear)
         else:
@@ -403,8 +403,8 @@ def _arc_collides(
     limit: float,
 ) -> bool:
     """The vectorised check of `_collision_imminent` for a short arc, one point at a time
-    (the same arithmetic: headings, running sums, distances, cells; but math.cos/sin,
-    libm, where the vectorised check has fmath's, which may differ in the last bit)."""
+    (the same arithmetic: headings, fmath's sin and cos, running sums, distances, cells;
+    so the same answer, bit for bit)."""
     x0, y0, yaw = pose.x, pose.y, pose.yaw
     # costmap.cost_at_point, inlined
     costs = costmap.costs
@@ -418,8 +418,9 @@ def _arc_collides(
     sum_x = sum_y = 0.0
     for k in range(n):
         theta = yaw + k * dt * angular  # heading before each step
-        sum_x += step * math.cos(theta)
-        sum_y += step * math.sin(theta)
+        s, c = fmath.sincos(theta)
+        sum_x += step * c
+        sum_y += step * s
         x, y = x0 + sum_x, y0 + sum_y
         dx, dy = x - x0, y - y0
         d2 = dx * dx + dy * dy

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from . import fmath
 from .errors import FrameError
 from .geometry import Pose2D, normalize_angle
 from .suggest import best_match
@@ -127,7 +128,7 @@ class FrameTree:
         edge = edges.get(node)
         while edge is not None:
             tf = edge.transform
-            c, s = math.cos(tf.yaw), math.sin(tf.yaw)
+            s, c = fmath.sincos(tf.yaw)
             x, y, yaw = tf.x + c * x - s * y, tf.y + s * x + c * y, tf.yaw + yaw
             if not -math.pi < yaw <= math.pi:
                 yaw = normalize_angle(yaw)  # as Pose2D keeps its yaw
@@ -153,11 +154,11 @@ class FrameTree:
                 f"(their trees have roots '{root_t}' and '{root_s}')"
             )
         # Pose2D(tx, ty, tyaw).inverse() @ Pose2D(sx, sy, syaw), on plain floats
-        c, s = math.cos(tyaw), math.sin(tyaw)
+        s, c = fmath.sincos(tyaw)
         ix, iy, iyaw = -c * tx - s * ty, s * tx - c * ty, -tyaw
         if not -math.pi < iyaw <= math.pi:
             iyaw = normalize_angle(iyaw)
-        c, s = math.cos(iyaw), math.sin(iyaw)
+        s, c = fmath.sincos(iyaw)
         found = Pose2D(ix + c * sx - s * sy, iy + s * sx + c * sy, iyaw + syaw)
         self._lookups[(target, source)] = found
         return found

@@ -89,14 +89,14 @@ class Pose2D:
 
     def as_matrix(self) -> NDArray[np.float64]:
         """The 3x3 homogeneous matrix."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        s, c = fmath.sincos(self.yaw)
         return np.array([[c, -s, self.x], [s, c, self.y], [0.0, 0.0, 1.0]])
 
     def __matmul__(self, other: Pose2D) -> Pose2D:
         return self.compose(other)
 
     def compose(self, other: Pose2D) -> Pose2D:
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        s, c = fmath.sincos(self.yaw)
         return Pose2D(
             self.x + c * other.x - s * other.y,
             self.y + s * other.x + c * other.y,
@@ -104,7 +104,7 @@ class Pose2D:
         )
 
     def inverse(self) -> Pose2D:
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        s, c = fmath.sincos(self.yaw)
         return Pose2D(-c * self.x - s * self.y, s * self.x - c * self.y, -self.yaw)
 
     def relative_to(self, other: Pose2D) -> Pose2D:
@@ -114,7 +114,7 @@ class Pose2D:
     def transform_points(self, points: ArrayLike) -> NDArray[np.float64]:
         """Map an (N, 2) array of points from this frame into its parent frame."""
         p = np.asarray(points, dtype=float)
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        s, c = fmath.sincos(self.yaw)
         out = np.empty_like(p)
         out[..., 0] = c * p[..., 0] - s * p[..., 1] + self.x
         out[..., 1] = s * p[..., 0] + c * p[..., 1] + self.y
@@ -124,7 +124,7 @@ class Pose2D:
         """Map points from the parent frame into this frame."""
         p = np.asarray(points, dtype=float)
         dx, dy = p[..., 0] - self.x, p[..., 1] - self.y
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        s, c = fmath.sincos(self.yaw)
         out = np.empty_like(p)
         out[..., 0] = c * dx + s * dy
         out[..., 1] = -s * dx + c * dy
@@ -142,10 +142,9 @@ def compose_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
     if a.shape == (3,) and b.ndim == 2 and b.shape[1] == 3:
-        # one pose composed with many: its cos and sin once, as Python floats (np.cos of a
-        # 0-d array and math.cos give the same double)
+        # one pose composed with many: its sin and cos once, on a Python float
         ax, ay, ayaw = a.tolist()
-        ca, sa = math.cos(ayaw), math.sin(ayaw)
+        sa, ca = fmath.sincos(ayaw)
         bx, by = b[:, 0], b[:, 1]
         out = np.empty(b.shape)
         out[:, 0] = ax + ca * bx - sa * by

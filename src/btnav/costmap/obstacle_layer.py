@@ -238,7 +238,7 @@ def scan_observation(
 
 def _placed(pose: Pose2D, px: NDArray[np.float64], py: NDArray[np.float64]) -> NDArray[np.float64]:
     """`pose.transform_points` of the points (px, py), without stacking them first."""
-    c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+    s, c = fmath.sincos(pose.yaw)
     out = np.empty((len(px), 2))
     out[:, 0] = c * px - s * py + pose.x
     out[:, 1] = s * px + c * py + pose.y

@@ -66,6 +66,6 @@ class PathTracker:
         sx, sy = seg[k]
         side = sx * rel[k, 1] - sy * rel[k, 0]  # > 0: left of the segment's direction
         error = float(dist[k]) if side >= 0 else -float(dist[k])
-        heading = float(normalize_angle(pose.yaw - math.atan2(sy, sx)))
+        heading = float(normalize_angle(pose.yaw - fmath.arctan2(float(sy), float(sx))))
         remaining = float(along[-1] - along[i] - lengths[k] * t[k])
         return i, error, heading, remaining

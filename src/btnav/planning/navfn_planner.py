@@ -8,6 +8,7 @@ from collections.abc import Callable
 import numpy as np
 from pydantic import Field
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
@@ -137,7 +138,7 @@ class NavfnPlanner(GlobalPlanner):
                 if len(poses) > 2 and np.all(np.abs(poses[-1, :2] - approach) < 1e-4):
                     approach = poses[-3, :2]
                 d = poses[-1, :2] - approach
-                poses[-1, 2] = math.atan2(d[1], d[0])
+                poses[-1, 2] = fmath.arctan2(float(d[1]), float(d[0]))
         return Path(0.0, poses, frame)
 
     def _reachable_goal(

@@ -127,7 +127,7 @@ class Lidar(Sensor):
         """The sensor's pose in the world (ground truth): robot pose composed with the mount."""
         r = self.world.robot_pose
         m = self.mount
-        c, s = math.cos(r.yaw), math.sin(r.yaw)
+        s, c = fmath.sincos(r.yaw)
         return (r.x + c * m.x - s * m.y, r.y + s * m.x + c * m.y, r.yaw + m.yaw)
 
     def true_ranges(self) -> np.ndarray:
@@ -135,9 +135,10 @@ class Lidar(Sensor):
         x, y, yaw = self.sensor_pose()
         # Rotate the cached beam directions instead of calling cos/sin per beam.
         rot = self._rot
-        rot[0, 0] = rot[1, 1] = math.cos(yaw)
-        rot[1, 0] = math.sin(yaw)
-        rot[0, 1] = -rot[1, 0]
+        s, c = fmath.sincos(yaw)
+        rot[0, 0] = rot[1, 1] = c
+        rot[1, 0] = s
+        rot[0, 1] = -s
         fmath.matmul_k(rot, self._local, out=self._dirs_t)  # not BLAS: CPU-independent bits
         return self._caster.cast(self.world.geometry(), (x, y), self._dirs_t.T, self.range_max)
 

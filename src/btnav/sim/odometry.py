@@ -49,9 +49,9 @@ def decompose(dx: float, dy: float, dyaw: float) -> tuple[float, float, float]:
     trans = math.hypot(dx, dy)
     if dx < 0.0:
         trans = -trans
-        rot1 = math.atan2(-dy, -dx)
+        rot1 = fmath.arctan2(-dy, -dx)
     else:
-        rot1 = math.atan2(dy, dx)
+        rot1 = fmath.arctan2(dy, dx)
     return rot1, trans, dyaw - rot1
 
 
@@ -149,7 +149,7 @@ class WheelOdometry:
         tx, ty = body.position
         yaw = body.angle  # unwrapped: odometry integrates its differences
         px, py, pyaw = self._true
-        c, s = math.cos(pyaw), math.sin(pyaw)
+        s, c = fmath.sincos(pyaw)
         ddx, ddy = tx - px, ty - py
         motion = (c * ddx + s * ddy, -s * ddx + c * ddy, yaw - pyaw)
         # sample_motion for one run, in floats (same draws, a few times faster).
@@ -158,8 +158,9 @@ class WheelOdometry:
         n1, nt, n2 = self._next_noise()
         x, y, th = self._pose
         heading = th + rot1 + n1 * s1
-        x += (trans + nt * st) * math.cos(heading)
-        y += (trans + nt * st) * math.sin(heading)
+        sh, ch = fmath.sincos(heading)
+        x += (trans + nt * st) * ch
+        y += (trans + nt * st) * sh
         th = heading + rot2 + n2 * s2
         self._pose = (x, y, th)
         self._true = (tx, ty, yaw)

@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pymunk
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..core.messages import Twist
 from .scene import convex_parts
@@ -99,12 +100,13 @@ class DiffDriveRobot:
                 return  # cruising straight: the body keeps the velocity it has
             v, w = v_goal, w_goal  # cruising on an arc: turn the velocity with the body
             a = self.body.angle
-            set_velocity(self.body, (v * math.cos(a), v * math.sin(a)))
+            s, c = fmath.sincos(a)
+            set_velocity(self.body, (v * c, v * s))
             return
         v_low, v_max, w_max, a_max, alpha_max = self._limits
         body = self.body
         a = body.angle
-        c, s = math.cos(a), math.sin(a)
+        s, c = fmath.sincos(a)
         if free:
             v_cur, w_cur = self._v, self._w
         else:
@@ -127,7 +129,7 @@ class DiffDriveRobot:
         """Forward, lateral and angular velocity in the robot frame."""
         vx, vy = self.body.velocity
         a = self.body.angle
-        c, s = math.cos(a), math.sin(a)
+        s, c = fmath.sincos(a)
         return c * vx + s * vy, -s * vx + c * vy, float(self.body.angular_velocity)
 
     @property

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pymunk.autogeometry import convex_decomposition
 
+from ..core import fmath
 from .geometry import Geometry
 from .world_spec import (
     BoxSpec,
@@ -52,10 +53,14 @@ class Solid:
 def box_corners(center: tuple[float, float], size: tuple[float, float], yaw: float) -> Array:
     """The four corners of a box, counter-clockwise."""
     hx, hy = size[0] / 2.0, size[1] / 2.0
-    local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s], [s, c]])
-    return local @ rot.T + np.asarray(center, dtype=float)
+    lx = np.array([-hx, hx, hx, -hx])
+    ly = np.array([-hy, -hy, hy, hy])
+    s, c = fmath.sincos(float(yaw))
+    cx, cy = (float(v) for v in center)
+    out = np.empty((4, 2))
+    out[:, 0] = c * lx - s * ly + cx  # rotated by yaw (explicit products: not BLAS)
+    out[:, 1] = s * lx + c * ly + cy
+    return out
 
 
 def is_convex(points: Array) -> bool:
@@ -129,7 +134,7 @@ def wall_pieces(wall: WallSpec) -> tuple[list[Array], Array]:
     """A wall as one rectangle per edge (butt ends) plus a circle at every joint (round joins)."""
     pts = np.asarray(wall.points, dtype=float)
     keep = np.ones(len(pts), dtype=bool)
-    keep[1:] = np.hypot(*np.diff(pts, axis=0).T) > MIN_EDGE  # drop repeated points
+    keep[1:] = fmath.hypot(*np.diff(pts, axis=0).T) > MIN_EDGE  # drop repeated points
     pts = pts[keep]
     half = wall.thickness / 2.0
     rects: list[Array] = []

@@ -268,7 +268,7 @@ class Optimizer:
         x, y, yaw = float(robot[0]), float(robot[1]), float(robot[2])
         out = np.empty((len(vx), 3))
         for i in range(len(vx)):
-            c, s_ = math.cos(yaw), math.sin(yaw)
+            s_, c = fmath.sincos(yaw)
             x += (vx[i] * c - vy[i] * s_) * dt
             y += (vx[i] * s_ + vy[i] * c) * dt
             yaw += wz[i] * dt

@@ -7,10 +7,9 @@ the robot to the goal's yaw (a btnav deviation, see `MapGridCritic.near_goal`).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from ....core import fmath
 from ....plugins import register
 from .goal_dist import GoalDistCritic
 
@@ -29,10 +28,10 @@ class GoalAlignCritic(GoalDistCritic):
         if self.zero_scale:
             return True
         d = self.params.forward_point_distance
-        a = math.atan2(goal.y - pose.y, goal.x - pose.x)
+        s, c = fmath.sincos(fmath.arctan2(goal.y - pose.y, goal.x - pose.x))
         shifted = plan.copy()
-        shifted[-1, 0] += d * math.cos(a)
-        shifted[-1, 1] += d * math.sin(a)
+        shifted[-1, 0] += d * c
+        shifted[-1, 1] += d * s
         return super().prepare(pose, velocity, goal, shifted, costmap)
 
     def score(self, trajs, costmap):

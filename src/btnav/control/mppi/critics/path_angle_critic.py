@@ -19,7 +19,7 @@ CONSIDER_FEASIBLE_PATH_ORIENTATIONS = 2
 
 
 def _angle_to(pose: np.ndarray, x: float, y: float) -> float:
-    yaw = math.atan2(y - pose[1], x - pose[0])
+    yaw = fmath.arctan2(y - float(pose[1]), x - float(pose[0]))
     d = (yaw - pose[2] + math.pi) % (2 * math.pi) - math.pi
     return abs(d)
 
@@ -65,7 +65,8 @@ class PathAngleCritic(CriticFunction):
             # The path says which way to drive there: compare with the path's heading.
             reverse = (
                 abs(
-                    ((gyaw - math.atan2(gy - robot[1], gx - robot[0])) + math.pi) % (2 * math.pi)
+                    ((gyaw - fmath.arctan2(gy - float(robot[1]), gx - float(robot[0]))) + math.pi)
+                    % (2 * math.pi)
                     - math.pi
                 )
                 > math.pi / 2
