@@ -42,11 +42,8 @@ def format_place(
     return f"{where}{f'{key}: ' if key else ''}{message}{hint}"
 
 
-class BtnavError(Exception):
-    """A user's mistake, located in their files.
-
-    `str(err)` reads `file:line: key.path: message (did you mean 'x'?)`.
-    """
+class _Placed:
+    """A message with its place (file, line, key path) and a suggested spelling."""
 
     def __init__(
         self,
@@ -66,6 +63,13 @@ class BtnavError(Exception):
 
     def __str__(self) -> str:
         return format_place(self.file, self.line, self.key, self.message, self.suggestion)
+
+
+class BtnavError(_Placed, Exception):
+    """A user's mistake, located in their files.
+
+    `str(err)` reads `file:line: key.path: message (did you mean 'x'?)`.
+    """
 
     def located(
         self,
@@ -117,7 +121,7 @@ class FrameError(UnknownNameError):
     """A frame missing from the frame tree; the message lists the frames that exist."""
 
 
-class BtnavWarning(UserWarning):
+class BtnavWarning(_Placed, UserWarning):
     """Something in a user's files that is probably a mistake but does not stop a run
     (a moving obstacle whose route goes through a wall, a goal inside an obstacle).
 
@@ -125,20 +129,3 @@ class BtnavWarning(UserWarning):
     warning and tests catch it with `pytest.warns`; the CLI prints each one once as
     `btnav: warning: file:line: key: message`.
     """
-
-    def __init__(
-        self,
-        message: str,
-        *,
-        file: str | PathLike[str] | None = None,
-        line: int | None = None,
-        key: str | Sequence[str | int] | None = None,
-    ) -> None:
-        self.message = message
-        self.file = None if file is None else str(file)
-        self.line = line
-        self.key = format_key_path(key)
-        super().__init__(self.__str__())
-
-    def __str__(self) -> str:
-        return format_place(self.file, self.line, self.key, self.message, None)

@@ -224,6 +224,8 @@ def scan_observation(
     starts = _placed(sensor_pose, start * cs, start * ss)
     ends = _placed(sensor_pose, near * cs, near * ss)
     far_ends = _placed(sensor_pose, length[far] * cs[far], length[far] * ss[far])
+    full = ends.copy()  # where each beam ends: near part, or far part when it has one
+    full[far] = far_ends
     return Observation(
         scan.stamp if stamp is None else stamp,
         np.array([sensor_pose.x, sensor_pose.y]),
@@ -232,7 +234,7 @@ def scan_observation(
         ends,
         ends[far],
         far_ends,
-        _placed(sensor_pose, length * cs, length * ss)[returned[keep]],
+        full[returned[keep]],
     )
 
 

@@ -91,18 +91,8 @@ def run_mission(
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):
-            if progress is None:
-                result = nav.wait_until_done(mission.spec.time_limit)
-            else:  # wait_until_done's loop, with `progress` at each poll
-                handle = nav.handle
-                assert handle is not None  # start_task sent the goal
-
-                def done() -> bool:
-                    progress(nav)
-                    return handle.done
-
-                nav.runtime.run_until(done, mission.spec.time_limit)
-                result = nav.get_result()
+            poll = None if progress is None else lambda: progress(nav)
+            result = nav.wait_until_done(mission.spec.time_limit, poll=poll)
             if result is None:
                 limit_reached = True
                 nav.cancel_task()

@@ -5,9 +5,10 @@ cmd_w, contact`: the ground-truth pose, the localiser's estimate (the frame tree
 `map -> base_footprint`), the wheel odometry, the command the controller sent, and 1
 on the row of the control cycle during which a new contact began (else 0; the
 report's `contacts` says what was hit). The recorder runs in the runtime's MONITOR
-stage at the controller's rate, so each row sees the command of that control cycle. Rows stream to the file as they come (a long
-run keeps no history in memory); the sums the report needs are kept as it goes, and
-the poses themselves only with `keep_track` (for pictures).
+stage at the controller's rate, so each row sees the command of that control cycle.
+Rows stream to the file as they come (a long run keeps no history in memory); the
+sums the report needs are kept as it goes, and the poses themselves only with
+`keep_track` (for pictures).
 """
 
 from __future__ import annotations

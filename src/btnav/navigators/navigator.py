@@ -18,7 +18,7 @@ helpers (`get_path`, `cancel_task`) step until their answer is there.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from pathlib import Path as FilePath
 from typing import Any
@@ -158,11 +158,22 @@ class Navigator:
         h.cancel()
         return self.runtime.run_until(lambda: h.done, timeout)
 
-    def wait_until_done(self, timeout: float = 300.0) -> NavResult | None:
-        """Poll until the task ends or `timeout` sim seconds pass; the result (None: still running)."""
+    def wait_until_done(
+        self, timeout: float = 300.0, poll: Callable[[], None] | None = None
+    ) -> NavResult | None:
+        """Poll until the task ends or `timeout` sim seconds pass; the result (None: still
+        running). `poll()` is called before each check (a live status; it must only read)."""
         h = self.handle
         if h is not None:
-            self.runtime.run_until(lambda: h.done, timeout)
+            if poll is None:
+                self.runtime.run_until(lambda: h.done, timeout)
+            else:
+
+                def done() -> bool:
+                    poll()
+                    return h.done
+
+                self.runtime.run_until(done, timeout)
         return self.get_result()
 
     def set_initial_pose(self, pose: PoseArg) -> None:
