@@ -210,8 +210,8 @@ def test_a_wrong_set_value_names_the_set_option_not_a_file_line(capsys):
             "(did you mean 'time_limit'?)"
         ),
         "mission.initial_pose=[6.5, 1.2]": (
-            "btnav: error: --set mission.initial_pose=[6.5, 1.2]: initial_pose: the robot's "
-            "footprint at its start pose (6.5, 1.2, 0) overlaps obstacles[3] (box)"
+            "btnav: error: --set mission.initial_pose=[6.5, 1.2]: initial_pose: the initial "
+            "pose [6.5, 1.2, 0] is inside an obstacle of the map ("
         ),
         "bt_navigator.default_nav_to_pose_bt_xml=navigate_w_replanning_tme": (
             "btnav: error: --set bt_navigator.default_nav_to_pose_bt_xml="

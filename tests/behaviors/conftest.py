@@ -18,7 +18,7 @@ def office(tmp_path: Path) -> Any:
         text = OFFICE.read_text().replace("pose: [1.0, 1.0, 0.0]", f"pose: {list(pose)}")
         # Noise-free odometry: behaviours measure their motion in odom, as Nav2's do, so
         # odometry drift would show as an error of the behaviour.
-        text = text.replace("noise: [0.02, 0.02, 0.02, 0.02]", "noise: [0.0, 0.0, 0.0, 0.0]")
+        text = text.replace("noise: [0.002, 0.0005, 0.0001, 0.0001]", "noise: [0.0, 0.0, 0.0, 0.0]")
         return make_stack(write_world(tmp_path, text), params)
 
     return make

@@ -133,11 +133,12 @@ def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path, controller, see
     assert math.hypot(rows[-1]["gt_x"] - 6.0, rows[-1]["gt_y"] - 3.0) <= TOLERANCE
 
 
-#: sha256 of trajectory.csv of `short_run` (seed 0). Every closed-loop computation is IEEE
-#: arithmetic in a fixed order (btnav.core.fmath, no SIMD-dispatched numpy kernel, no
-#: BLAS, no libm sin/cos/atan2/exp/log), so any x86-64 machine gives these bytes. If a change alters the trajectory on
-#: purpose, run this test, check the run still looks right and paste the new digest.
-SHORT_RUN_DIGEST = "bedf4a76811b71ad88c923593f1619ba04c0a0bb89ac44c0000fd4c9bd06228d"
+#: sha256 of trajectory.csv of `short_run` (seed 0, AMCL localising). Every closed-loop
+#: computation is IEEE arithmetic in a fixed order (btnav.core.fmath, no SIMD-dispatched
+#: numpy kernel, no BLAS, no libm sin/cos/atan2/exp/log), so any x86-64 machine gives these
+#: bytes. If a change alters the trajectory on purpose, run this test, check the run
+#: still looks right and paste the new digest.
+SHORT_RUN_DIGEST = "46030dcfb017bf7e8710bb5193f7750ac48177f13b811eee08fc832b838c1919"
 
 SHORT_RUN = """
 import hashlib, sys
@@ -146,7 +147,9 @@ sys.path.insert(0, {tests!r})
 from missions import write_mission
 from btnav.mission import Mission, run_mission
 out = Path({out!r})
-path = write_mission(out, "short", task={{"navigate_to_pose": [3.0, 2.0, 1.57]}})
+path = write_mission(
+    out, "short", localization="amcl", task={{"navigate_to_pose": [3.0, 2.0, 1.57]}}
+)
 run_mission(Mission.load(path), out / "run")
 print(hashlib.sha256((out / "run" / "trajectory.csv").read_bytes()).hexdigest())
 """

@@ -1,4 +1,5 @@
-"""Nav2's service client nodes: the clear-costmap services and ValidatePath.
+"""Nav2's service client nodes: the clear-costmap services, ValidatePath and
+ReinitializeGlobalLocalization.
 
 A Nav2 `BtServiceNode` sends its request on the first tick and returns RUNNING until
 the answer comes (FAILURE after `server_timeout`). btnav's services answer within the
@@ -256,4 +257,19 @@ class ValidatePath(BtServiceNode):
         if hits.size:
             self.feedback_message = f"path invalid at poses {hits.tolist()}"
             return F
+        return S
+
+
+@register("bt_node", "ReinitializeGlobalLocalization")
+class ReinitializeGlobalLocalization(BtServiceNode):
+    """AMCL's `reinitialize_global_localization` service: spread the particles uniformly
+    over the map's free space (std_srvs/Empty). FAILURE when the localiser has no such
+    service (ground truth)."""
+
+    SERVICE = "reinitialize_global_localization"
+    INPUT_PORTS: ClassVar = dict(SERVICE_INPUTS)
+    OUTPUT_PORTS: ClassVar = {}
+
+    def call(self, name: str) -> Status:
+        self.stack.services()[name]()
         return S

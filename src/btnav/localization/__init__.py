@@ -1,1 +1,1 @@
-"""Localisers: they publish map -> odom (ground truth now; AMCL to come)."""
+"""Localisers: they publish map -> odom (`ground_truth` for tests, `amcl` on a known map)."""

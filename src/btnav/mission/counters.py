@@ -23,7 +23,9 @@ class NavigationCounters:
         self._goal: Any = None
         self._goal_recoveries = 0
         self._path: Any = None  # the path the current goal last had
-        self._seen: Any = None  # the blackboard's path at the last call
+        # The blackboard's path at the last call. py_trees' blackboard is process-wide, so
+        # at the start it may hold an earlier run's path: that one is not a plan of ours.
+        self._seen: Any = blackboard_value("path")
         self._planned = False
 
     def __call__(self, navigator: Any, now: float) -> None:

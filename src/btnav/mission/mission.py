@@ -17,6 +17,8 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, TypeVar
 
+import numpy as np
+
 from ..bt.bundled import find_tree
 from ..core.errors import BtnavError, BtnavWarning, ParamsError, WorldError
 from ..core.frames import FrameTree
@@ -145,6 +147,8 @@ class Mission:
             grid = load_map(map_file)  # read once now, so a bad map is a load error
             for warning in task_pose_warnings(spec, grid, map_file, where):
                 warnings.warn(warning, stacklevel=2)
+            if spec.localization == "amcl":
+                _check_amcl_start(spec, world, params, grid, map_file, where, changed)
         elif spec.localization != "slam":
             raise MissionError(
                 f"localization '{spec.localization}' needs a map; give `map:` "
@@ -210,9 +214,69 @@ class Mission:
             nav.use_tree(self.tree, action)
         except BtnavError as err:
             raise _located(err, self._tree_key(action)) from None
-        if self.spec.initial_pose is not None:
-            nav.set_initial_pose(Pose2D(*self.spec.initial_pose))
+        start = self.spec.initial_pose
+        if start is None and self.spec.localization == "amcl" and not _amcl_sets_pose(self):
+            start = self.world.robot.pose  # AMCL starts where the mission starts the robot
+        if start is not None:
+            nav.set_initial_pose(Pose2D(*start))
         return nav
+
+
+def _amcl_sets_pose(mission: Mission) -> bool:
+    """Whether Nav2's amcl section gives the initial pose itself (`set_initial_pose`)."""
+    return "amcl" in mission.params and bool(mission.params.server("amcl").model.set_initial_pose)
+
+
+def _map_problem(grid: OccupancyGrid, map_file: Path, x: float, y: float) -> str | None:
+    """Why AMCL cannot start at (x, y) on the map: off it, or in an occupied cell."""
+    row, col = grid.world_to_cell([(x, y)])[0]
+    if not grid.in_bounds(np.array([row, col])):
+        (x0, y0), (x1, y1) = _map_extent(grid)
+        return f"is outside the map ({map_file} covers x {x0:g} to {x1:g}, y {y0:g} to {y1:g})"
+    if grid.data[row, col] >= OCCUPIED:
+        return f"is inside an obstacle of the map ({map_file})"
+    return None
+
+
+def _check_amcl_start(
+    spec: MissionSpec,
+    world: WorldSpec,
+    params: ParamsFile,
+    grid: OccupancyGrid,
+    map_file: Path,
+    where: Any,
+    changed: Mapping[str, str],
+) -> None:
+    """AMCL needs its initial pose on a free cell of the map: the mission's `initial_pose`
+    (or the world's start pose), and amcl's `initial_pose` when `set_initial_pose`."""
+    if "amcl" in params and params.server("amcl").model.set_initial_pose:
+        ip = params.server("amcl").model.initial_pose
+        problem = _map_problem(grid, map_file, ip.x, ip.y)
+        if problem is not None:
+            raw = params.raw.get("amcl")
+            origin = set_by("amcl.initial_pose", changed)
+            raise ParamsError(
+                f"amcl's initial_pose [{ip.x:g}, {ip.y:g}, {ip.yaw:g}] {problem}; "
+                "AMCL cannot start there",
+                file=origin or str(params.path),
+                line=None
+                if origin or raw is None
+                else line_at(raw, [ROS_PARAMETERS, "initial_pose"]),
+                key="amcl.initial_pose",
+            )
+    pose = spec.initial_pose if spec.initial_pose is not None else tuple(world.robot.pose)
+    problem = _map_problem(grid, map_file, pose[0], pose[1])
+    if problem is None:
+        return
+    shown = "[" + ", ".join(f"{v:g}" for v in pose) + "]"
+    message = f"the initial pose {shown} {problem}; AMCL cannot start there"
+    if spec.initial_pose is not None:
+        raise MissionError(message, **where("initial_pose"))
+    raise MissionError(
+        f"{message} (the world's robot.pose; give the mission an initial_pose)",
+        file=str(world.file) if getattr(world, "file", None) else None,
+        key="robot.pose",
+    )
 
 
 def task_pose_warnings(

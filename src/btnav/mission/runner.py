@@ -19,7 +19,6 @@ from typing import Any
 
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
-from ..maps.map_io import save_map
 from ..navigators.navigator import Navigator
 from .bt_log import BtLog
 from .counters import NavigationCounters
@@ -104,7 +103,7 @@ def run_mission(
     report = _report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
     if out is not None:
         if "map" in outputs and nav.stack.map_server.map is not None:
-            save_map(nav.stack.map_server.map, out / output_files("map")[0])
+            nav.save_map(out / output_files("map")[0])
         for plugin in plugins.values():
             plugin.write(RunOutput(out, mission, nav, report, recorder.track))
         if "report" in outputs:

@@ -125,11 +125,17 @@ class NavStack:
     # -- services -------------------------------------------------------------------------
 
     def services(self) -> dict[str, Callable[..., Any]]:
-        """Nav2's service names -> callables (clear costmaps, load_map)."""
+        """Nav2's service names -> callables (clear costmaps, load_map, and the localiser's
+        reinitialize_global_localization and request_nomotion_update when it has them)."""
         out: dict[str, Callable[..., Any]] = {}
         out.update(self.global_costmap.services())
         out.update(self.local_costmap.services())
         out["map_server/load_map"] = self.map_server.load_map
+        localizer = self.runtime.localizer
+        for name in ("reinitialize_global_localization", "request_nomotion_update"):
+            service = getattr(localizer, name, None)
+            if service is not None:  # amcl's services
+                out[name] = service
         return out
 
     def clear_all_costmaps(self) -> None:

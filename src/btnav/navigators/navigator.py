@@ -28,7 +28,7 @@ from ..behaviors.spin import SpinGoal
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
 from ..core.messages import Path
-from ..maps.map_io import load_map
+from ..maps.map_io import load_map, save_map
 from ..nav.actions import GoalHandle
 from ..nav.planner_server import ComputePathToPoseGoal
 from ..nav.runtime import Runtime
@@ -88,6 +88,9 @@ class Navigator:
             rt.use_localizer(localization)
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)
+        set_map = getattr(rt.localizer, "set_map", None)
+        if set_map is not None:  # AMCL takes map_server's map, as Nav2's `map` topic
+            stack.map_server.subscribe(set_map)
         bt = BtNavigator(rt, stack, pf, base_dir=FilePath.cwd())
         wf = rt.add(WaypointFollower(rt, pf))
         stack.servers["bt_navigator"] = bt
@@ -176,12 +179,22 @@ class Navigator:
                 self.runtime.run_until(done, timeout)
         return self.get_result()
 
-    def set_initial_pose(self, pose: PoseArg) -> None:
-        """The localiser's initial estimate in the map frame (BasicNavigator's /initialpose);
-        a localiser without one (ground truth) has nothing to set."""
+    def set_initial_pose(self, pose: PoseArg, covariance: Any = None) -> None:
+        """The localiser's initial estimate in the map frame (BasicNavigator's
+        /initialpose; `covariance` 3x3 over x, y, yaw, zeros by default as BasicNavigator
+        sends); a localiser without one (ground truth) has nothing to set."""
         setter = getattr(self.runtime.localizer, "set_initial_pose", None)
         if setter is not None:
-            setter(_pose(pose))
+            setter(_pose(pose), covariance)
+
+    def reinitialize_global_localization(self) -> bool:
+        """AMCL's reinitialize_global_localization service: particles spread uniformly over
+        the map's free space. False if the localiser has no such service."""
+        service = getattr(self.runtime.localizer, "reinitialize_global_localization", None)
+        if service is None:
+            return False
+        service()
+        return True
 
     # -- services ---------------------------------------------------------------------------
 
@@ -211,6 +224,32 @@ class Navigator:
 
     def clear_global_costmap(self) -> None:
         self.stack.global_costmap.clear_entirely()
+
+    def save_map(
+        self,
+        path: str | PathLike[str],
+        *,
+        mode: str = "trinary",
+        image_format: str | None = None,
+    ) -> tuple[FilePath, FilePath]:
+        """`map_saver_cli -f PATH`: the map the stack serves, written as map_saver writes it
+        (cells classified by the `map_saver:` section's `free_thresh_default` and
+        `occupied_thresh_default`); returns the YAML's and the image's paths."""
+        grid = self.stack.map_server.map
+        if grid is None:
+            raise RuntimeError("no map to save: map_server has none (and no SLAM runs)")
+        free, occupied = 0.25, 0.65  # map_saver's own defaults
+        if "map_saver" in self.stack.params:
+            saver = self.stack.params.server("map_saver").model
+            free, occupied = saver.free_thresh_default, saver.occupied_thresh_default
+        return save_map(
+            grid,
+            path,
+            mode=mode,
+            free_thresh=free,
+            occupied_thresh=occupied,
+            image_format=image_format,
+        )
 
     def set_parameters(self, server: str, changes: Mapping[str, Any]) -> ServerParams:
         """Nav2's dynamic parameters on any server, validated like the file."""

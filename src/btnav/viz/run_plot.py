@@ -4,7 +4,11 @@ Registered as the `png` output plugin (the `viz` entry point), so a mission asks
 with `outputs: [report, png]`. Under the world lies the inflated global costmap (what
 the planner saw); over it the last global plan, the ground-truth path (solid), the
 localiser's estimate (dashed, another colour), the task's poses numbered and every
-contact as a red X naming what was hit. The title is the run's result.
+contact as a red X naming what was hit. With a particle-filter localiser (AMCL) the
+particle cloud at the end is drawn too (a dot and a short heading tick each), with
+the final estimate and ground-truth poses as arrows, and the title adds the
+localisation error over the run, so a glance says whether localisation held. The
+title is the run's result.
 """
 
 from __future__ import annotations
@@ -39,6 +43,10 @@ LEGEND_ESTIMATE = "estimate (localisation)"
 LEGEND_PLAN = "global plan (last)"
 LEGEND_COSTMAP = "global costmap (inflated)"
 LEGEND_CONTACT = "contact"
+LEGEND_PARTICLES = "particles (end)"
+PARTICLE_COLOR = "#ff7f0e"
+#: Particles drawn at most (evenly thinned beyond), so a picture stays light.
+MAX_PARTICLES_DRAWN = 2000
 
 
 @register("output", "png")
@@ -126,8 +134,9 @@ def draw_run(run: RunOutput) -> Figure:
             color=GOAL_COLOR,
             zorder=7,
         )
+    _draw_particles(ax, run.navigator.runtime.localizer, track)
     _draw_contacts(ax, world.contacts)
-    ax.set_title(_title(run.report), fontsize=9)
+    ax.set_title(_title(run.report, _has_particles(run.navigator.runtime.localizer)), fontsize=9)
     handles, labels = ax.get_legend_handles_labels()
     from matplotlib.patches import Patch
 
@@ -198,11 +207,68 @@ def _draw_contacts(ax: Axes, contacts: list[Any]) -> None:
             )
 
 
-def _title(report: Any) -> str:
+def _has_particles(localizer: Any) -> bool:
+    return getattr(localizer, "particles", None) is not None
+
+
+def _draw_particles(ax: Axes, localizer: Any, track: np.ndarray) -> None:
+    """The localiser's particle cloud at the end, and the last estimate against the truth."""
+    if not _has_particles(localizer):
+        return
+    poses, _weights = localizer.particles
+    if len(poses) > MAX_PARTICLES_DRAWN:
+        poses = poses[:: -(-len(poses) // MAX_PARTICLES_DRAWN)]
+    tick = 0.12  # m: a heading tick, long enough to read the cloud's spread in yaw
+    ax.quiver(
+        poses[:, 0],
+        poses[:, 1],
+        np.cos(poses[:, 2]) * tick,
+        np.sin(poses[:, 2]) * tick,
+        angles="xy",
+        scale_units="xy",
+        scale=1.0,
+        width=0.0015,
+        color=PARTICLE_COLOR,
+        alpha=0.5,
+        zorder=5,
+    )
+    ax.plot(
+        poses[:, 0],
+        poses[:, 1],
+        linestyle="none",
+        marker=".",
+        markersize=1.5,
+        color=PARTICLE_COLOR,
+        zorder=5,
+        label=LEGEND_PARTICLES,
+    )
+    if len(track):
+        for (x, y, yaw), color, label in (
+            (track[-1, 1:4], PATH_COLOR, "pose at the end (ground truth)"),
+            (track[-1, 4:7], ESTIMATE_COLOR, "pose at the end (estimate)"),
+        ):
+            ax.annotate(
+                "",
+                xy=(x + 0.35 * np.cos(yaw), y + 0.35 * np.sin(yaw)),
+                xytext=(x, y),
+                arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.6},
+                zorder=6.5,
+            )
+            ax.plot(x, y, marker="o", markersize=4, color=color, zorder=6.5, label=label)
+
+
+def _title(report: Any, localised: bool = False) -> str:
     code = f", error {report.error_code}" if report.error_code is not None else ""
     n, r = report.collisions, report.recoveries
-    return (
+    title = (
         f"{report.mission}: {report.status}{code}, {report.sim_time:.1f} s, "
         f"{report.path_length:.1f} m, {n} collision{'s' if n != 1 else ''}, "
         f"{r} recover{'ies' if r != 1 else 'y'}"
     )
+    err = getattr(report, "localization_error", None)
+    if localised and err:
+        title += (
+            f"\nlocalisation error: rms {err['rms_xy'] * 100:.1f} cm (max "
+            f"{err['max_xy'] * 100:.1f} cm), rms yaw {np.degrees(err['rms_yaw']):.1f} deg"
+        )
+    return title

@@ -11,7 +11,6 @@ has passed; a negative distance or angle disables that check.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from btnav.control.dwb.critics.oscillation import OscillationCritic
 from btnav.core.geometry import Pose2D
@@ -94,43 +93,21 @@ def test_reset_forgets_the_flags():
     assert legal(c, (0.1, 0.0, 0.0)) == [True]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav oscillation.py:99 applies the rotation flag only to trajectories with "
-    "|vx| < x_only_threshold; Nav2 rejects any trajectory whose wz has the forbidden "
-    "sign, moving or not",
-)
 def test_a_rotation_flag_rejects_turning_back_while_driving_too():
     c = drive(critic(), (0.0, 0.0, 0.5), (0.0, 0.0, -0.5))
     assert legal(c, (0.2, 0.0, 0.5)) == [False]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav oscillation.py:73 tracks vy's sign whatever vx is; Nav2 tracks vy (like "
-    "wz) only while |vx| <= x_only_threshold",
-)
 def test_strafing_flips_while_driving_are_not_tracked():
     c = drive(critic(), (0.2, 0.1, 0.0), (0.2, -0.1, 0.0))
     assert legal(c, (0.2, 0.1, 0.0)) == [True]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav oscillation.py:74 tracks wz only while |vx| < x_only_threshold; Nav2's "
-    "test is |vx| <= x_only_threshold",
-)
 def test_x_only_threshold_is_inclusive():
     c = drive(critic(), (0.05, 0.0, 0.5), (0.05, 0.0, -0.5))
     assert legal(c, (0.0, 0.0, 0.5)) == [False]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav oscillation.py:91 compares with negative reset distance/angle as "
-    "thresholds (0 > -1 clears the flag at once); Nav2 skips a check whose parameter is "
-    "negative, so with all three negative the flag never clears",
-)
 def test_negative_reset_parameters_disable_the_reset():
     c = critic(oscillation_reset_dist=-1.0, oscillation_reset_angle=-1.0)
     drive(c, (0.2, 0.0, 0.0), (-0.2, 0.0, 0.0), (-0.2, 0.0, 0.0))

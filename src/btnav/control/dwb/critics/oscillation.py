@@ -3,8 +3,10 @@
 After the chosen command reverses a direction (forward then backward, left then
 right turn), commands with the opposite sign are illegal until the robot has
 moved `oscillation_reset_dist` or turned `oscillation_reset_angle` from where the
-flip happened (or `oscillation_reset_time` passed, when >= 0). The rotation
-direction is only tracked while the linear speed is below `x_only_threshold`.
+flip happened (or `oscillation_reset_time` passed; a negative distance, angle or time
+disables that check). Sideways and rotation directions are only tracked while the
+linear speed is at most `x_only_threshold` (always, when it is negative), but a flag
+once set forbids the other sign whatever the linear speed.
 """
 
 from __future__ import annotations
@@ -70,31 +72,41 @@ class OscillationCritic(TrajectoryCritic):
         return True
 
     def debrief(self, cmd, pose) -> None:
-        flagged = self.x.update(cmd.linear_x) | self.y.update(cmd.linear_y)
-        if abs(cmd.linear_x) < self.params.x_only_threshold:
+        p = self.params
+        flagged = self.x.update(cmd.linear_x)
+        if p.x_only_threshold < 0.0 or abs(cmd.linear_x) <= p.x_only_threshold:
+            flagged |= self.y.update(cmd.linear_y)
             flagged |= self.theta.update(cmd.angular_z)
         self.prev_linear = cmd.linear_x
         if flagged:
             self.prev_stationary = pose
             self.cycles_since_flag = 0
-        if self.prev_stationary is not None and (
+        if self.prev_stationary is None or not (
             self.x.has_flag or self.y.has_flag or self.theta.has_flag
         ):
-            p = self.params
-            moved = math.hypot(pose.x - self.prev_stationary.x, pose.y - self.prev_stationary.y)
-            turned = abs(angle_diff(pose.yaw, self.prev_stationary.yaw))
-            self.cycles_since_flag += 1
-            timed = (
-                p.oscillation_reset_time >= 0.0
-                and self.cycles_since_flag * 0.05 > p.oscillation_reset_time
-            )
-            if moved > p.oscillation_reset_dist or turned > p.oscillation_reset_angle or timed:
-                self.x.reset()
-                self.y.reset()
-                self.theta.reset()
+            return
+        self.cycles_since_flag += 1
+        if self._reset_available(pose):
+            self.x.reset()
+            self.y.reset()
+            self.theta.reset()
+
+    def _reset_available(self, pose) -> bool:
+        """Nav2's resetAvailable: a negative distance, angle or time disables that check."""
+        p, since = self.params, self.prev_stationary
+        moved = math.hypot(pose.x - since.x, pose.y - since.y)
+        if p.oscillation_reset_dist >= 0.0 and moved > p.oscillation_reset_dist:
+            return True
+        turned = abs(angle_diff(pose.yaw, since.yaw))
+        if p.oscillation_reset_angle >= 0.0 and turned > p.oscillation_reset_angle:
+            return True
+        return (
+            p.oscillation_reset_time >= 0.0
+            and self.cycles_since_flag * 0.05 > p.oscillation_reset_time
+        )
 
     def score(self, trajs, costmap):
         v = trajs.velocity
         bad = self.x.oscillating(v[:, 0]) | self.y.oscillating(v[:, 1])
-        bad |= self.theta.oscillating(v[:, 2]) & (np.abs(v[:, 0]) < self.params.x_only_threshold)
+        bad |= self.theta.oscillating(v[:, 2])
         return np.where(bad, np.inf, 0.0)

@@ -1,0 +1,141 @@
+"""AMCL in the closed loop, ground truth as the judge, on Nav2's own params.
+
+The tour runs with AMCL driving (map -> odom is AMCL's); global localisation and the
+kidnapped robot run a second, passive AMCL (tf_broadcast false) beside ground-truth
+navigation, so the robot drives the same tour safely whatever AMCL believes.
+
+The targets are the issue's: 5 cm / 2 degrees RMS on the office world's odometry, under
+10 cm with five times its noise. Between updates (nav2_amcl's gating: update_min_d
+0.25 m, update_min_a 0.2 rad) odometry alone carries the estimate, so its drift over
+0.25 m bounds what any AMCL can do.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from btnav.core.geometry import Pose2D
+from btnav.localization.amcl import Amcl
+from btnav.mission import Mission, run_mission
+from btnav.mission.navigator import Navigator
+from btnav.mission.runner import start_task
+from btnav.nav.runtime import Stage
+
+pytestmark = pytest.mark.slow
+
+REPO = Path(__file__).resolve().parents[2]
+TOUR = REPO / "missions" / "office_tour.yaml"
+WORLD = REPO / "worlds" / "small_office.yaml"
+#: The passive AMCL tests navigate on ground truth, so the robot drives the same tour safely.
+GROUND_TRUTH = {"mission.localization": "ground_truth"}
+
+
+def world_with_noise(tmp_path: Path, scale: float) -> Path:
+    """The office world with its odometry alphas times `scale`."""
+    doc = yaml.safe_load(WORLD.read_text())
+    doc["robot"]["odometry"]["noise"] = [a * scale for a in doc["robot"]["odometry"]["noise"]]
+    out = tmp_path / f"world_{scale}.yaml"
+    out.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return out
+
+
+def tour(**overrides):
+    return run_mission(Mission.load(TOUR, overrides={"mission.localization": "amcl", **overrides}))
+
+
+def test_the_office_tour_with_amcl_succeeds_untouched():
+    report = tour()
+    err = report.localization_error
+    assert report.status == "succeeded" and report.collisions == 0
+    assert report.missed_waypoints == []
+    assert err["rms_xy"] <= 0.05 and math.degrees(err["rms_yaw"]) <= 2.0
+
+
+def test_five_times_the_odometry_noise_stays_under_10_cm(tmp_path):
+    report = tour(**{"mission.world": str(world_with_noise(tmp_path, 5.0))})
+    err = report.localization_error
+    assert report.status == "succeeded" and report.collisions == 0
+    assert err["rms_xy"] < 0.10
+
+
+class Judge:
+    """A MONITOR: distance travelled and the passive AMCL's error against ground truth."""
+
+    stage = Stage.MONITOR
+    rate = 10.0
+
+    def __init__(self, nav: Navigator, amcl: Amcl) -> None:
+        self.nav, self.amcl = nav, amcl
+        self.travel = 0.0
+        self.last = nav.world.robot_pose
+        self.rows: list[tuple[float, float, float]] = []
+
+    def update(self, now: float) -> None:
+        truth = self.nav.world.robot_pose
+        self.travel += truth.distance_to(self.last)
+        self.last = truth
+        est = self.amcl.map_to_odom
+        error = (
+            math.inf
+            if est is None
+            else (est @ self.nav.runtime.latest_odom.pose).distance_to(truth)
+        )
+        self.rows.append((now, self.travel, error))
+
+
+def passive_amcl(nav: Navigator, **params) -> Amcl:
+    base = nav.stack.params.server("amcl").model
+    amcl = Amcl(
+        nav.runtime,
+        type(base).model_validate({**base.model_dump(), "tf_broadcast": False, **params}),
+    )
+    nav.stack.map_server.subscribe(amcl.set_map)
+    nav.runtime.add(amcl, stage=Stage.LOCALIZATION)
+    return amcl
+
+
+def test_global_localisation_converges_within_20_m_of_travel():
+    nav = Navigator.from_mission(TOUR, overrides=GROUND_TRUTH)
+    amcl = passive_amcl(nav)
+    amcl.reinitialize_global_localization()
+    judge = Judge(nav, amcl)
+    nav.runtime.add(judge)
+    assert start_task(nav, nav.mission)
+    nav.wait_until_done(300)
+    rows = np.array(judge.rows)
+    converged = np.flatnonzero(rows[:, 2] < 0.3)
+    assert converged.size and rows[converged[0], 1] < 20.0
+    # and it stays: the last 10 m are tracked within 0.6 m
+    late = rows[rows[:, 1] > rows[-1, 1] - 10.0]
+    assert late[:, 2].max() < 0.6
+
+
+def test_a_kidnapped_robot_is_found_again_with_recovery_on():
+    nav = Navigator.from_mission(TOUR, overrides=GROUND_TRUTH)
+    amcl = passive_amcl(nav, recovery_alpha_slow=0.001, recovery_alpha_fast=0.1)
+    amcl.set_initial_pose(nav.world.robot_pose)
+    judge = Judge(nav, amcl)
+    nav.runtime.add(judge)
+    assert start_task(nav, nav.mission)
+    nav.runtime.spin_for(8.0)
+    # The kidnap: the robot is carried 3 m without its odometry knowing.
+    world, body = nav.world, nav.world.robot.body
+    before = world.robot_pose
+    target = (
+        Pose2D(before.x, before.y + 3.0, before.yaw)
+        if before.y < 4
+        else Pose2D(before.x, before.y - 3.0, before.yaw)
+    )
+    body.position = (target.x, target.y)
+    world.space.reindex_shapes_for_body(body)
+    nav.runtime.odometry._true = (target.x, target.y, body.angle)
+    t_kidnap = nav.now
+    nav.runtime.spin_for(1.0)
+    assert judge.rows[-1][2] > 2.0  # it is lost
+    found = nav.runtime.run_until(lambda: judge.rows[-1][2] < 0.3, timeout=60.0)
+    assert found, f"not found again within 60 s of the kidnap at t = {t_kidnap:.1f} s"
