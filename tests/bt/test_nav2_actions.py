@@ -171,8 +171,9 @@ def test_without_a_runtime_an_action_node_fails_with_send_goal_failure():
 def test_clear_entire_costmap_calls_the_stacks_service_and_counts_a_recovery(stack):
     _world, _rt, nav = stack
     called = []
-    real = nav.local_costmap.clear_entirely
-    nav.local_costmap.clear_entirely = lambda: called.append(1) or real()
+    ros = nav.local_costmap.costmap_ros
+    real = ros.clear_entirely
+    ros.clear_entirely = lambda: called.append(1) or real()
     try:
         root = tree(
             '<ClearEntireCostmap service_name="local_costmap/clear_entirely_local_costmap"/>',
@@ -183,7 +184,7 @@ def test_clear_entire_costmap_calls_the_stacks_service_and_counts_a_recovery(sta
         assert root.status == S and called == [1]
         assert recovery_count() == before + 1
     finally:
-        del nav.local_costmap.clear_entirely
+        del ros.clear_entirely
     with pytest.raises(UnknownNameError) as info:
         tree('<ClearEntireCostmap service_name="local_costmap/clear_entirely"/>', stack)
     assert "clear_entirely_local_costmap" in str(info.value)

@@ -8,10 +8,11 @@ from .cost_values import (
     NO_INFORMATION,
 )
 from .costmap_2d import Costmap2D
+from .costmap_ros import Costmap2DROS, CostmapROS
 from .footprint import footprint_from_radius, min_max_distances, pad_footprint
 from .inflation_layer import InflationLayer, inflation_cost
 from .layer import Bounds, CostmapLayer, Layer, Window
-from .layered_costmap import Costmap2DROS, CostmapROS, LayeredCostmap, robot_footprint
+from .layered_costmap import LayeredCostmap, robot_footprint
 from .obstacle_layer import ObservationSource, ObstacleLayer, VoxelLayer
 from .static_layer import StaticLayer, interpret_values
 

@@ -17,7 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
 
+from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
+from ..core.messages import LaserScan
+from ..maps.occupancy_grid import OccupancyGrid
 from ..params.schema import ParamsModel
 from .cost_values import FREE_SPACE, NO_INFORMATION
 from .costmap_2d import Costmap2D
@@ -91,7 +94,8 @@ class Layer:
     """Base of every `costmap_layer` plugin.
 
     Subclasses override `update_bounds` and `update_costs` (and `reset`,
-    `match_size`, `on_footprint_changed`, `on_params_changed` as they need).
+    `match_size`, `on_footprint_changed`, `on_params_changed`, `set_map`,
+    `receive_scan`, `is_current` as they need).
     `params` is the validated section of the layer in the params file.
     """
 
@@ -163,6 +167,24 @@ class Layer:
 
     def clear_area(self, window: Window, invert: bool) -> None:
         """Reset cells inside (or, with `invert`, outside) `window` of this layer's grid."""
+
+    # -- inputs: every layer is offered them; most ignore them ------------------------
+
+    def set_map(self, grid: OccupancyGrid) -> None:
+        """A new map from map_server or SLAM (Nav2's static layer subscribes to `map`)."""
+
+    def receive_scan(
+        self,
+        scan: LaserScan,
+        frame_tree: FrameTree,
+        source: str | None = None,
+        global_frame: str | None = None,
+    ) -> None:
+        """A new scan (Nav2's layers subscribe to their observation sources' topics)."""
+
+    def is_current(self, now: float) -> bool:
+        """Whether this layer's inputs are recent enough (Nav2's `isCurrent`: `current_`)."""
+        return self.current
 
 
 class CostmapLayer(Layer):

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..core.messages import LaserScan
-from ..costmap.layered_costmap import CostmapROS
+from ..costmap.costmap_ros import CostmapROS
 from ..params.paramsfile import ServerParams
 from .runtime import Runtime, Stage
 
@@ -61,22 +61,14 @@ class CostmapServer:
 
     # -- services (nav2_costmap_2d ClearCostmapService) -----------------------------------
 
-    def clear_entirely(self) -> None:
-        self.costmap_ros.clear_entirely()
-
-    def clear_around_robot(self, reset_distance: float = 1.0) -> None:
-        self.costmap_ros.clear_around_robot(reset_distance)
-
-    def clear_except_region(self, reset_distance: float = 1.0) -> None:
-        self.costmap_ros.clear_except_region(reset_distance)
-
     def services(self) -> dict[str, Callable[..., None]]:
-        """Nav2's service names (as a BT node's `service_name` spells them) -> callables."""
-        n = self.name
+        """Nav2's service names (as a BT node's `service_name` spells them) -> the
+        costmap's own clear methods."""
+        n, ros = self.name, self.costmap_ros
         return {
-            f"{n}/clear_entirely_{n}": self.clear_entirely,
-            f"{n}/clear_around_{n}": self.clear_around_robot,
-            f"{n}/clear_except_{n}": self.clear_except_region,
+            f"{n}/clear_entirely_{n}": ros.clear_entirely,
+            f"{n}/clear_around_{n}": ros.clear_around_robot,
+            f"{n}/clear_except_{n}": ros.clear_except_region,
         }
 
     # -- dynamic parameters ---------------------------------------------------------------

@@ -20,7 +20,7 @@ from collections.abc import Callable, Mapping
 from os import PathLike
 from typing import Any
 
-from ..costmap.layered_costmap import CostmapROS
+from ..costmap.costmap_ros import CostmapROS
 from ..maps.occupancy_grid import OccupancyGrid
 from ..params.loader import load_params
 from ..params.paramsfile import ParamsFile, ServerParams
@@ -139,5 +139,5 @@ class NavStack:
         return out
 
     def clear_all_costmaps(self) -> None:
-        self.global_costmap.clear_entirely()
-        self.local_costmap.clear_entirely()
+        self.global_costmap.costmap_ros.clear_entirely()
+        self.local_costmap.costmap_ros.clear_entirely()

@@ -220,10 +220,10 @@ class Navigator:
         self.stack.clear_all_costmaps()
 
     def clear_local_costmap(self) -> None:
-        self.stack.local_costmap.clear_entirely()
+        self.stack.local_costmap.costmap_ros.clear_entirely()
 
     def clear_global_costmap(self) -> None:
-        self.stack.global_costmap.clear_entirely()
+        self.stack.global_costmap.costmap_ros.clear_entirely()
 
     def save_map(
         self,
