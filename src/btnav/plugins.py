@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable
 from importlib.metadata import entry_points
 from os import PathLike
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from .core.errors import PluginError
 from .core.suggest import best_match, close_matches
@@ -51,6 +51,24 @@ ENTRY_POINT_GROUP = "btnav.plugins"
 _registry: dict[str, dict[str, Any]] = {kind: {} for kind in KINDS}
 _primary: dict[str, dict[str, str]] = {kind: {} for kind in KINDS}  # alias -> primary name
 _entry_points_loaded = False
+
+
+class Plugin:
+    """The shape the `cls(name, params)` plugin kinds share, as nav2_core's interfaces do:
+    a `Params` model (the schema of the plugin's params section), the name the params
+    file gives the instance, and its validated params (the defaults when None).
+
+    Controllers, global planners, smoothers, goal and progress checkers, path handlers
+    and costmap layers extend it; `register` fills in `plugin_kind` and `plugin_name`.
+    """
+
+    Params: ClassVar[type[Any]]
+    plugin_kind: ClassVar[str]
+    plugin_name: ClassVar[str]
+
+    def __init__(self, name: str, params: Any = None) -> None:
+        self.name = name
+        self.params = params if params is not None else type(self).Params()
 
 
 def canonical(name: str) -> str:

@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import Any
 
 from ..core.geometry import Pose2D
 from ..core.messages import Path, Twist
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ParamsModel
+from ..plugins import Plugin
 
 
-class Controller:
+class Controller(Plugin):
     """Base of every `controller` plugin: follows a path on the local costmap.
 
     `compute_velocity_commands` gets the robot pose in the costmap's frame (odom for
@@ -20,13 +21,6 @@ class Controller:
 
     class Params(ParamsModel):
         pass
-
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
-    def __init__(self, name: str, params: Params) -> None:
-        self.name = name
-        self.params = params
 
     def set_plan(self, path: Path) -> None:
         """A new path to follow (Nav2's setPlan: a controller may reset its state)."""

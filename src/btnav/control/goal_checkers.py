@@ -12,7 +12,6 @@ have (nearly) stopped.
 from __future__ import annotations
 
 import math
-from typing import ClassVar
 
 import numpy as np
 from pydantic import Field
@@ -21,7 +20,7 @@ from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff
 from ..core.messages import Path, Twist
 from ..params.schema import ParamsModel
-from ..plugins import register
+from ..plugins import Plugin, register
 
 
 def path_length(path: Path | np.ndarray | None) -> float:
@@ -35,18 +34,14 @@ def path_length(path: Path | np.ndarray | None) -> float:
     return float(fmath.hypot(d[:, 0], d[:, 1]).sum())
 
 
-class GoalChecker:
+class GoalChecker(Plugin):
     """Base of every `goal_checker` plugin (nav2_core::GoalChecker)."""
 
     class Params(ParamsModel):
         pass
 
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
     def __init__(self, name: str = "goal_checker", params: ParamsModel | None = None) -> None:
-        self.name = name
-        self.params = params if params is not None else self.Params()
+        super().__init__(name, params)
 
     def reset(self) -> None:
         """A new goal is coming: forget any state."""

@@ -19,7 +19,6 @@ the controllers (DWB, RPP) that prune a plan themselves.
 from __future__ import annotations
 
 import math
-from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,7 +29,7 @@ from ..core.geometry import Pose2D, angle_diff, compose_arrays
 from ..core.messages import Path
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ParamsModel
-from ..plugins import register
+from ..plugins import Plugin, register
 from .exceptions import InvalidPath
 
 _EPS_TRANS = 1e-4
@@ -176,18 +175,14 @@ def first_path_constraint(
     return min(rotation, inversion)
 
 
-class PathHandler:
+class PathHandler(Plugin):
     """Base of every `path_handler` plugin (nav2_core::PathHandler)."""
 
     class Params(ParamsModel):
         pass
 
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
     def __init__(self, name: str = "PathHandler", params: ParamsModel | None = None) -> None:
-        self.name = name
-        self.params = params if params is not None else self.Params()
+        super().__init__(name, params)
 
     def set_plan(self, path: Path) -> None:
         raise NotImplementedError

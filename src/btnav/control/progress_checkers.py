@@ -10,27 +10,21 @@ Time is the caller's sim time: nothing here reads a clock.
 
 from __future__ import annotations
 
-from typing import ClassVar
-
 from pydantic import Field
 
 from ..core.geometry import Pose2D, angle_diff
 from ..params.schema import ParamsModel
-from ..plugins import register
+from ..plugins import Plugin, register
 
 
-class ProgressChecker:
+class ProgressChecker(Plugin):
     """Base of every `progress_checker` plugin (nav2_core::ProgressChecker)."""
 
     class Params(ParamsModel):
         pass
 
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
     def __init__(self, name: str = "progress_checker", params: ParamsModel | None = None) -> None:
-        self.name = name
-        self.params = params if params is not None else self.Params()
+        super().__init__(name, params)
 
     def check(self, pose: Pose2D, now: float) -> bool:
         """True while the robot makes progress; `now` is sim time in seconds."""

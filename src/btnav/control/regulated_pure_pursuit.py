@@ -165,7 +165,7 @@ class RegulatedPurePursuitController(Controller):
     params: Params
 
     def __init__(self, name: str = "FollowPath", params: Params | None = None) -> None:
-        super().__init__(name, params if params is not None else self.Params())
+        super().__init__(name, params)
         #: The control period (1 / controller_frequency); the controller server sets it.
         self.control_duration = 0.05
         self.max_linear_vel = self.params.max_linear_vel

@@ -11,7 +11,7 @@ numpy operations on the window.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +22,7 @@ from ..core.geometry import Pose2D
 from ..core.messages import LaserScan
 from ..maps.occupancy_grid import OccupancyGrid
 from ..params.schema import ParamsModel
+from ..plugins import Plugin
 from .cost_values import FREE_SPACE, NO_INFORMATION
 from .costmap_2d import Costmap2D
 
@@ -90,7 +91,7 @@ class Window:
         return self.xn <= self.x0 or self.yn <= self.y0
 
 
-class Layer:
+class Layer(Plugin):
     """Base of every `costmap_layer` plugin.
 
     Subclasses override `update_bounds` and `update_costs` (and `reset`,
@@ -102,12 +103,8 @@ class Layer:
     class Params(ParamsModel):
         enabled: bool = True
 
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
     def __init__(self, name: str, params: Params | None = None) -> None:
-        self.name = name
-        self.params = params if params is not None else type(self).Params()
+        super().__init__(name, params)
         self.layered: LayeredCostmap | None = None
         self.current = True
 

@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import ClassVar
 
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ParamsModel
+from ..plugins import Plugin
 
 
-class GlobalPlanner:
+class GlobalPlanner(Plugin):
     """Base of every `planner` plugin: plans a path on the global costmap.
 
     A failure raises one of `planning.exceptions` (Nav2's planner exceptions, each
@@ -20,13 +20,6 @@ class GlobalPlanner:
 
     class Params(ParamsModel):
         pass
-
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
-    def __init__(self, name: str, params: Params) -> None:
-        self.name = name
-        self.params = params
 
     def create_plan(
         self,

@@ -56,7 +56,7 @@ class NavfnPlanner(GlobalPlanner):
     params: Params
 
     def __init__(self, name: str, params: Params | None = None) -> None:
-        super().__init__(name, params if params is not None else self.Params())
+        super().__init__(name, params)
         self._graph: GridGraph | None = None
         #: The potential of the last plan (ny, nx), for inspection and plots.
         self.potential: np.ndarray | None = None

@@ -51,7 +51,7 @@ class SimpleSmoother(Smoother):
     params: Params
 
     def __init__(self, name: str, params: Params | None = None) -> None:
-        super().__init__(name, params if params is not None else self.Params())
+        super().__init__(name, params)
 
     def smooth(
         self,

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import ClassVar, NamedTuple
+from typing import NamedTuple
 
 from ..core.messages import Path
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ParamsModel
+from ..plugins import Plugin
 
 
 class Smoothed(NamedTuple):
@@ -18,7 +19,7 @@ class Smoothed(NamedTuple):
     was_completed: bool
 
 
-class Smoother:
+class Smoother(Plugin):
     """Base of every `smoother` plugin: smooths a planned path on a costmap.
 
     `cancel_checker` is polled while smoothing; when it returns True the smoother
@@ -29,13 +30,6 @@ class Smoother:
 
     class Params(ParamsModel):
         pass
-
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
-
-    def __init__(self, name: str, params: Params) -> None:
-        self.name = name
-        self.params = params
 
     def smooth(
         self,

@@ -179,7 +179,7 @@ class DWBLocalPlanner(Controller):
     params: DWBParams
 
     def __init__(self, name: str = "FollowPath", params: DWBParams | None = None) -> None:
-        super().__init__(name, params if params is not None else DWBParams())
+        super().__init__(name, params)
         self.critics: list[TrajectoryCritic] = []
         for cname in self.params.critics:
             cls = critic_class(cname)
