@@ -43,6 +43,22 @@ _IMMUTABLE = frozenset({str, int, float, bool, bytes})
 TIME_EPS = 1e-9
 
 
+#: BT.CPP's NodeStatus, as every node file spells them.
+S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+
+
+def input_port(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
+    """BT.CPP's `InputPort<T>(name, default, description)` for a node's ports table."""
+    return PortInformation(
+        data_type, required=False, description=description, default_value=default
+    )
+
+
+def output_port(data_type: Any, description: str = "") -> PortInformation:
+    """BT.CPP's `OutputPort<T>(name, description)`."""
+    return PortInformation(data_type, required=False, description=description)
+
+
 def _plain_types(data_type: Any) -> tuple[type, ...] | None:
     """The classes `isinstance` can check a port's type with, or None for other types
     (generics such as `list[Pose2D]`), which py_trees' own check handles."""

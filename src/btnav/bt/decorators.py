@@ -15,9 +15,7 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, TickGen, halt
-
-S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+from .base import TIME_EPS, DecoratorNode, F, R, S, TickGen, halt
 
 
 @register("bt_node", "Inverter")

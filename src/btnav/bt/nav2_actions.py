@@ -41,29 +41,17 @@ from ..nav.controller_server import FollowPathGoal
 from ..nav.planner_server import ComputePathThroughPosesGoal, ComputePathToPoseGoal
 from ..nav.smoother_server import SmoothPathGoal
 from ..plugins import register
+from .base import F, R, S, input_port, output_port
 from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_count, same_path
-
-S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
-
-
-def _in(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
-
-
-def _out(data_type: Any, description: str = "") -> PortInformation:
-    return PortInformation(data_type, required=False, description=description)
-
 
 #: Every BtActionNode's ports (Nav2's `providedBasicPorts`).
 BASIC_INPUTS: dict[str, PortInformation] = {
-    "server_name": _in(str, "Action server name"),
-    "server_timeout": _in(int, "Action server timeout (ms); the sim answers at once"),
+    "server_name": input_port(str, "Action server name"),
+    "server_timeout": input_port(int, "Action server timeout (ms); the sim answers at once"),
 }
 BASIC_OUTPUTS: dict[str, PortInformation] = {
-    "error_code_id": _out(int, "The action error code"),
-    "error_msg": _out(str, "The action error message"),
+    "error_code_id": output_port(int, "The action error code"),
+    "error_msg": output_port(str, "The action error message"),
 }
 
 
@@ -239,15 +227,17 @@ class ComputePathToPose(BtActionNode):
     ACTION = "ComputePathToPose"
     SERVER = "compute_path_to_pose"
     INPUT_PORTS: ClassVar = {
-        "start": _in(PoseLike, "Start pose; used instead of the robot's if use_start is not false"),
-        "use_start": _in(bool, "Whether to use `start`"),
-        "goal": _in(PoseLike, "Goal pose"),
-        "viapoints": _in(list, "Intermediate viapoints (excluding goal)"),
-        "planner_id": _in(str, "Mapped name of the planner plugin, e.g. GridBased", ""),
+        "start": input_port(
+            PoseLike, "Start pose; used instead of the robot's if use_start is not false"
+        ),
+        "use_start": input_port(bool, "Whether to use `start`"),
+        "goal": input_port(PoseLike, "Goal pose"),
+        "viapoints": input_port(list, "Intermediate viapoints (excluding goal)"),
+        "planner_id": input_port(str, "Mapped name of the planner plugin, e.g. GridBased", ""),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = {
-        "path": _out(Path, "Path created by the action server"),
+        "path": output_port(Path, "Path created by the action server"),
         **BASIC_OUTPUTS,
     }
 
@@ -296,14 +286,16 @@ class ComputePathThroughPoses(BtActionNode):
     #: ComputePathThroughPoses' ALL_GOALS: the plan reaches every goal.
     ALL_GOALS: ClassVar[int] = -1
     INPUT_PORTS: ClassVar = {
-        "start": _in(PoseLike, "Start pose; used if given"),
-        "goals": _in(list, "Goal poses"),
-        "planner_id": _in(str, "Mapped name of the planner plugin, e.g. GridBased", ""),
+        "start": input_port(PoseLike, "Start pose; used if given"),
+        "goals": input_port(list, "Goal poses"),
+        "planner_id": input_port(str, "Mapped name of the planner plugin, e.g. GridBased", ""),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = {
-        "path": _out(Path, "Path created by the action server"),
-        "last_reached_index": _out(int, "Index of the last goal a partial plan reaches; -1: all"),
+        "path": output_port(Path, "Path created by the action server"),
+        "last_reached_index": output_port(
+            int, "Index of the last goal a partial plan reaches; -1: all"
+        ),
         **BASIC_OUTPUTS,
     }
 
@@ -347,15 +339,15 @@ class FollowPath(BtActionNode):
     ACTION = "FollowPath"
     SERVER = "follow_path"
     INPUT_PORTS: ClassVar = {
-        "path": _in(Path, "The path to follow"),
-        "controller_id": _in(str, "Mapped name of the controller plugin, e.g. FollowPath"),
-        "goal_checker_id": _in(str, "Mapped name of the goal checker plugin"),
-        "progress_checker_id": _in(str, "Mapped name of the progress checker plugin"),
-        "path_handler_id": _in(str, "Mapped name of the path handler plugin"),
+        "path": input_port(Path, "The path to follow"),
+        "controller_id": input_port(str, "Mapped name of the controller plugin, e.g. FollowPath"),
+        "goal_checker_id": input_port(str, "Mapped name of the goal checker plugin"),
+        "progress_checker_id": input_port(str, "Mapped name of the progress checker plugin"),
+        "path_handler_id": input_port(str, "Mapped name of the path handler plugin"),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = {
-        "tracking_feedback": _out(object, "The controller server's latest feedback"),
+        "tracking_feedback": output_port(object, "The controller server's latest feedback"),
         **BASIC_OUTPUTS,
     }
     _IDS: ClassVar = ("controller_id", "goal_checker_id", "progress_checker_id")
@@ -411,18 +403,18 @@ class SmoothPath(BtActionNode):
     ACTION = "SmoothPath"
     SERVER = "smooth_path"
     INPUT_PORTS: ClassVar = {
-        "unsmoothed_path": _in(Path, "The path to smooth"),
-        "max_smoothing_duration": _in(float, "Maximum time to smooth for (seconds)", 3.0),
-        "check_for_collisions": _in(
+        "unsmoothed_path": input_port(Path, "The path to smooth"),
+        "max_smoothing_duration": input_port(float, "Maximum time to smooth for (seconds)", 3.0),
+        "check_for_collisions": input_port(
             bool, "Whether to check the smoothed path for collisions", False
         ),
-        "smoother_id": _in(str, "The smoother plugin ID"),
+        "smoother_id": input_port(str, "The smoother plugin ID"),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = {
-        "smoothed_path": _out(Path, "The smoothed path"),
-        "smoothing_duration": _out(float, "The time used for smoothing (s)"),
-        "was_completed": _out(bool, "Whether smoothing ran to completion"),
+        "smoothed_path": output_port(Path, "The smoothed path"),
+        "smoothing_duration": output_port(float, "The time used for smoothing (s)"),
+        "was_completed": output_port(bool, "Whether smoothing ran to completion"),
         **BASIC_OUTPUTS,
     }
 
@@ -453,10 +445,10 @@ class Spin(BtActionNode):
     ACTION = "Spin"
     SERVER = "spin"
     INPUT_PORTS: ClassVar = {
-        "spin_dist": _in(float, "Spin distance (radians)", 1.57),
-        "time_allowance": _in(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "is_recovery": _in(bool, "True if the action is being used as a recovery", True),
-        "disable_collision_checks": _in(bool, "Disable collision checking", False),
+        "spin_dist": input_port(float, "Spin distance (radians)", 1.57),
+        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
+        "is_recovery": input_port(bool, "True if the action is being used as a recovery", True),
+        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
@@ -479,10 +471,10 @@ class BackUp(BtActionNode):
     SERVER = "backup"
     IS_RECOVERY = True
     INPUT_PORTS: ClassVar = {
-        "backup_dist": _in(float, "Total distance to back up (m)", 0.15),
-        "backup_speed": _in(float, "Backup speed (m/s)", 0.025),
-        "time_allowance": _in(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "disable_collision_checks": _in(bool, "Disable collision checking", False),
+        "backup_dist": input_port(float, "Total distance to back up (m)", 0.15),
+        "backup_speed": input_port(float, "Backup speed (m/s)", 0.025),
+        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
+        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
@@ -503,10 +495,10 @@ class DriveOnHeading(BtActionNode):
     ACTION = "DriveOnHeading"
     SERVER = "drive_on_heading"
     INPUT_PORTS: ClassVar = {
-        "dist_to_travel": _in(float, "Distance to travel (m)", 0.15),
-        "speed": _in(float, "Speed at which to travel (m/s)", 0.025),
-        "time_allowance": _in(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "disable_collision_checks": _in(bool, "Disable collision checking", False),
+        "dist_to_travel": input_port(float, "Distance to travel (m)", 0.15),
+        "speed": input_port(float, "Speed at which to travel (m/s)", 0.025),
+        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
+        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
@@ -528,7 +520,7 @@ class Wait(BtActionNode):
     SERVER = "wait"
     IS_RECOVERY = True
     INPUT_PORTS: ClassVar = {
-        "wait_duration": _in(float, "Wait time (s)", 1.0),
+        "wait_duration": input_port(float, "Wait time (s)", 1.0),
         **BASIC_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)

@@ -28,6 +28,7 @@ from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..plugins import register
+from .base import F, S, input_port
 from .nav2_context import (
     Nav2Leaf,
     PoseLike,
@@ -38,14 +39,6 @@ from .nav2_context import (
     same_path,
 )
 
-S, F = Status.SUCCESS, Status.FAILURE
-
-
-def _in(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
-
 
 def _status(ok: bool) -> Status:
     return S if ok else F
@@ -54,8 +47,8 @@ def _status(ok: bool) -> Status:
 # -- goals ---------------------------------------------------------------------------------
 
 _GOAL_PORTS: dict[str, PortInformation] = {
-    "goal": _in(PoseLike, 'Destination to check; "{goal}" if not specified'),
-    "goals": _in(list, 'Vector of goals to check; "{goals}" if not specified'),
+    "goal": input_port(PoseLike, 'Destination to check; "{goal}" if not specified'),
+    "goals": input_port(list, 'Vector of goals to check; "{goals}" if not specified'),
 }
 
 
@@ -114,8 +107,8 @@ class GoalReached(Nav2Leaf):
     #: bt_navigator's `goal_reached_tol` parameter default.
     GOAL_REACHED_TOL: ClassVar[float] = 0.25
     INPUT_PORTS: ClassVar = {
-        "goal": _in(PoseLike, "Destination to check"),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
+        "goal": input_port(PoseLike, "Destination to check"),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -136,10 +129,10 @@ class ArePosesNear(Nav2Leaf):
     when their frames differ)."""
 
     INPUT_PORTS: ClassVar = {
-        "ref_pose": _in(PoseLike, "The pose to check"),
-        "target_pose": _in(PoseLike, "The other pose to check against"),
-        "global_frame": _in(str, "Frame to compare in when the poses' frames differ"),
-        "tolerance": _in(float, "Distance under which the poses are near", 0.5),
+        "ref_pose": input_port(PoseLike, "The pose to check"),
+        "target_pose": input_port(PoseLike, "The other pose to check against"),
+        "global_frame": input_port(str, "Frame to compare in when the poses' frames differ"),
+        "tolerance": input_port(float, "Distance under which the poses are near", 0.5),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -164,13 +157,15 @@ class IsGoalNearby(Nav2Leaf):
     nearest pose starts where the previous one was found and looks that far ahead."""
 
     INPUT_PORTS: ClassVar = {
-        "path": _in(Path, "The planned path to evaluate"),
-        "proximity_threshold": _in(float, "Remaining path length (m) that counts as nearby", 1.0),
-        "max_robot_pose_search_dist": _in(
+        "path": input_port(Path, "The planned path to evaluate"),
+        "proximity_threshold": input_port(
+            float, "Remaining path length (m) that counts as nearby", 1.0
+        ),
+        "max_robot_pose_search_dist": input_port(
             float, "Distance along the path searched for the nearest pose (<0: all)", -1.0
         ),
-        "global_frame": _in(str, "The global reference frame (bt_navigator's if not given)"),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
+        "global_frame": input_port(str, "The global reference frame (bt_navigator's if not given)"),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -212,7 +207,7 @@ class InitialPoseReceived(Nav2Leaf):
     """SUCCESS when `initial_pose_received` (default entry `{initial_pose_received}`) is true."""
 
     INPUT_PORTS: ClassVar = {
-        "initial_pose_received": _in(
+        "initial_pose_received": input_port(
             bool, 'Whether an initial pose was received; "{initial_pose_received}" if not specified'
         ),
     }
@@ -237,8 +232,10 @@ class AreErrorCodesPresent(Nav2Leaf):
     #: The codes a WouldA...RecoveryHelp checks (it ignores `error_codes_to_check`, as in Nav2).
     DEFAULT_CODES: ClassVar[frozenset[int] | None] = None
     INPUT_PORTS: ClassVar = {
-        "error_code": _in(int, "The active error code to compare against"),
-        "error_codes_to_check": _in(list[int], "The error codes to compare the active one against"),
+        "error_code": input_port(int, "The active error code to compare against"),
+        "error_codes_to_check": input_port(
+            list[int], "The error codes to compare the active one against"
+        ),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -300,7 +297,9 @@ class WouldASmootherRecoveryHelp(AreErrorCodesPresent):
 class TimeExpired(Nav2Leaf):
     """SUCCESS once every `seconds` of sim time; the first tick of a run starts the timer."""
 
-    INPUT_PORTS: ClassVar = {"seconds": _in(float, "The time passed to return success (s)", 1.0)}
+    INPUT_PORTS: ClassVar = {
+        "seconds": input_port(float, "The time passed to return success (s)", 1.0)
+    }
     OUTPUT_PORTS: ClassVar = {}
     INJECT: ClassVar = ("clock", *Nav2Leaf.INJECT)
 
@@ -324,8 +323,8 @@ class PathExpiringTimer(TimeExpired):
     """SUCCESS once every `seconds` of sim time; a new `path` restarts the timer."""
 
     INPUT_PORTS: ClassVar = {
-        "seconds": _in(float, "Time to check if expired", 1.0),
-        "path": _in(Path, "Check if path has been updated to enable timer reset"),
+        "seconds": input_port(float, "Time to check if expired", 1.0),
+        "path": input_port(Path, "Check if path has been updated to enable timer reset"),
     }
 
     def __init__(self, name: str, **kwargs: Any) -> None:
@@ -355,9 +354,11 @@ class DistanceTraveled(Nav2Leaf):
     when the run started or the condition last succeeded."""
 
     INPUT_PORTS: ClassVar = {
-        "distance": _in(float, "The distance that must be travelled before success (m)", 1.0),
-        "global_frame": _in(str, "Reference frame (bt_navigator's if not given)"),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
+        "distance": input_port(
+            float, "The distance that must be travelled before success (m)", 1.0
+        ),
+        "global_frame": input_port(str, "Reference frame (bt_navigator's if not given)"),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -384,8 +385,8 @@ class TransformAvailable(Nav2Leaf):
     """SUCCESS once the frame tree can transform between `parent` and `child` (and from then on)."""
 
     INPUT_PORTS: ClassVar = {
-        "child": _in(str, "Child frame for transform", ""),
-        "parent": _in(str, "Parent frame for transform", ""),
+        "child": input_port(str, "Child frame for transform", ""),
+        "parent": input_port(str, "Parent frame for transform", ""),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -449,10 +450,10 @@ class IsWithinPathTrackingBounds(Nav2Leaf):
     count as their absolute value, as in Nav2."""
 
     INPUT_PORTS: ClassVar = {
-        "max_error_left": _in(float, "Largest tracking error (m) left of the path", 0.5),
-        "max_error_right": _in(float, "Largest tracking error (m) right of the path", 0.5),
-        "max_error_heading": _in(float, "Largest heading error (rad)", 3.14),
-        "tracking_feedback": _in(object, "The controller server's tracking feedback"),
+        "max_error_left": input_port(float, "Largest tracking error (m) left of the path", 0.5),
+        "max_error_right": input_port(float, "Largest tracking error (m) right of the path", 0.5),
+        "max_error_heading": input_port(float, "Largest heading error (rad)", 3.14),
+        "tracking_feedback": input_port(object, "The controller server's tracking feedback"),
     }
     OUTPUT_PORTS: ClassVar = {}
 

@@ -4,16 +4,13 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from py_trees.common import Status
 from py_trees.composites import Selector as _PtSelector
 from py_trees.composites import Sequence as _PtSequence
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import ControlNode, TickGen, is_skipped
+from .base import ControlNode, F, R, S, TickGen, is_skipped
 from .errors import TreeError
-
-S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
 
 
 @register("bt_node", "PipelineSequence")

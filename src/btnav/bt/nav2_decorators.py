@@ -9,9 +9,7 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, TickGen
-
-S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+from .base import TIME_EPS, DecoratorNode, R, S, TickGen
 
 
 @register("bt_node", "RateController")

@@ -10,12 +10,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 from py_trees.common import Status
-from py_trees.ports import PortInformation
 
 from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff
 from ..core.messages import Path, PoseStamped
 from ..plugins import register
+from .base import F, S, input_port, output_port
 from .nav2_context import (
     INFINITY,
     Nav2Leaf,
@@ -25,20 +25,8 @@ from .nav2_context import (
     same_path,
 )
 
-S, F = Status.SUCCESS, Status.FAILURE
-
 #: nav2_msgs/WaypointStatus.COMPLETED
 WAYPOINT_COMPLETED = 1
-
-
-def _in(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
-
-
-def _out(data_type: Any, description: str = "") -> PortInformation:
-    return PortInformation(data_type, required=False, description=description)
 
 
 @register("bt_node", "TruncatePath")
@@ -46,10 +34,12 @@ class TruncatePath(Nav2Leaf):
     """Drop the poses within `distance` of the path's end; the new last pose faces the end."""
 
     INPUT_PORTS: ClassVar = {
-        "input_path": _in(Path, "The original path to be truncated"),
-        "distance": _in(float, "The distance to the original goal for truncating the path", 1.0),
+        "input_path": input_port(Path, "The original path to be truncated"),
+        "distance": input_port(
+            float, "The distance to the original goal for truncating the path", 1.0
+        ),
     }
-    OUTPUT_PORTS: ClassVar = {"output_path": _out(Path, "The resulting truncated path")}
+    OUTPUT_PORTS: ClassVar = {"output_path": output_port(Path, "The resulting truncated path")}
 
     def update(self) -> Status:
         path = self.optional("input_path")
@@ -77,20 +67,22 @@ class TruncatePathLocal(Nav2Leaf):
     nearest the robot (or `pose`) to `distance_forward` ahead (-1: to the end)."""
 
     INPUT_PORTS: ClassVar = {
-        "input_path": _in(Path, "The original path to be truncated"),
-        "distance_forward": _in(float, "Trimming distance forward; -1 for the whole path", 8.0),
-        "distance_backward": _in(float, "Trimming distance backward", 4.0),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
-        "transform_tolerance": _in(float, "Robot pose lookup tolerance", 0.2),
-        "pose": _in(PoseLike, "A pose to use instead of the robot's"),
-        "angular_distance_weight": _in(
+        "input_path": input_port(Path, "The original path to be truncated"),
+        "distance_forward": input_port(
+            float, "Trimming distance forward; -1 for the whole path", 8.0
+        ),
+        "distance_backward": input_port(float, "Trimming distance backward", 4.0),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
+        "transform_tolerance": input_port(float, "Robot pose lookup tolerance", 0.2),
+        "pose": input_port(PoseLike, "A pose to use instead of the robot's"),
+        "angular_distance_weight": input_port(
             float, "Weight of angular distance in finding the nearest pose", 0.0
         ),
-        "max_robot_pose_search_dist": _in(
+        "max_robot_pose_search_dist": input_port(
             float, "Distance along the path from the last nearest pose searched", INFINITY
         ),
     }
-    OUTPUT_PORTS: ClassVar = {"output_path": _out(Path, "The resulting truncated path")}
+    OUTPUT_PORTS: ClassVar = {"output_path": output_port(Path, "The resulting truncated path")}
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name=name, **kwargs)
@@ -143,14 +135,18 @@ class RemovePassedGoals(Nav2Leaf):
     the matching waypoint statuses are marked COMPLETED."""
 
     INPUT_PORTS: ClassVar = {
-        "radius": _in(float, "Radius (m) round a viapoint within which it counts as passed", 0.5),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
-        "input_goals": _in(list, "The goals to check"),
-        "input_waypoint_statuses": _in(list, "Waypoint statuses to mark"),
+        "radius": input_port(
+            float, "Radius (m) round a viapoint within which it counts as passed", 0.5
+        ),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
+        "input_goals": input_port(list, "The goals to check"),
+        "input_waypoint_statuses": input_port(list, "Waypoint statuses to mark"),
     }
     OUTPUT_PORTS: ClassVar = {
-        "output_goals": _out(list, "The goals without the passed ones"),
-        "output_waypoint_statuses": _out(list, "Waypoint statuses with passed waypoints marked"),
+        "output_goals": output_port(list, "The goals without the passed ones"),
+        "output_waypoint_statuses": output_port(
+            list, "Waypoint statuses with passed waypoints marked"
+        ),
     }
 
     def update(self) -> Status:
@@ -209,10 +205,12 @@ class GetPoseFromPath(Nav2Leaf):
     """The pose at `index` of `path` (-1: the last), stamped with the path's frame."""
 
     INPUT_PORTS: ClassVar = {
-        "path": _in(Path, "Path to extract pose from"),
-        "index": _in(int, "Index from path to use; -1 for the last pose", 0),
+        "path": input_port(Path, "Path to extract pose from"),
+        "index": input_port(int, "Index from path to use; -1 for the last pose", 0),
     }
-    OUTPUT_PORTS: ClassVar = {"pose": _out(PoseStamped, "Pose from path, with the path's frame")}
+    OUTPUT_PORTS: ClassVar = {
+        "pose": output_port(PoseStamped, "Pose from path, with the path's frame")
+    }
 
     def update(self) -> Status:
         path = self.optional("path")
@@ -231,10 +229,10 @@ class GetCurrentPose(Nav2Leaf):
     """The robot's pose in `global_frame`, stamped (FAILURE if it cannot be looked up)."""
 
     INPUT_PORTS: ClassVar = {
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
-        "global_frame": _in(str, "Global frame (bt_navigator's if not given)"),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
+        "global_frame": input_port(str, "Global frame (bt_navigator's if not given)"),
     }
-    OUTPUT_PORTS: ClassVar = {"current_pose": _out(PoseStamped, "The current pose")}
+    OUTPUT_PORTS: ClassVar = {"current_pose": output_port(PoseStamped, "The current pose")}
 
     def update(self) -> Status:
         frame = self.frame_port("global_frame", self.global_frame)
@@ -251,10 +249,10 @@ class ConcatenatePaths(Nav2Leaf):
     """`input_path1` then `input_path2` (the first path's frame); FAILURE if both are empty."""
 
     INPUT_PORTS: ClassVar = {
-        "input_path1": _in(Path, "First path to concatenate"),
-        "input_path2": _in(Path, "Second path to concatenate"),
+        "input_path1": input_port(Path, "First path to concatenate"),
+        "input_path2": input_port(Path, "Second path to concatenate"),
     }
-    OUTPUT_PORTS: ClassVar = {"output_path": _out(Path, "Output concatenated path")}
+    OUTPUT_PORTS: ClassVar = {"output_path": output_port(Path, "Output concatenated path")}
 
     def update(self) -> Status:
         paths = [p for p in (self.optional("input_path1"), self.optional("input_path2")) if p]
@@ -271,10 +269,10 @@ class AppendGoalPoseToGoals(Nav2Leaf):
     """`input_goals` with `goal_pose` appended."""
 
     INPUT_PORTS: ClassVar = {
-        "goal_pose": _in(PoseLike, "Goal pose to append"),
-        "input_goals": _in(list, "Input goals to append to"),
+        "goal_pose": input_port(PoseLike, "Goal pose to append"),
+        "input_goals": input_port(list, "Input goals to append to"),
     }
-    OUTPUT_PORTS: ClassVar = {"output_goals": _out(list, "Goals with the pose appended")}
+    OUTPUT_PORTS: ClassVar = {"output_goals": output_port(list, "Goals with the pose appended")}
 
     def update(self) -> Status:
         goals = list(self.optional("input_goals") or [])
@@ -290,10 +288,10 @@ class GetNextFewGoals(Nav2Leaf):
     """The first `num_goals` of `input_goals`; FAILURE if there are none."""
 
     INPUT_PORTS: ClassVar = {
-        "num_goals": _in(int, "How many of the goals to take"),
-        "input_goals": _in(list, "Input goals list"),
+        "num_goals": input_port(int, "How many of the goals to take"),
+        "input_goals": input_port(list, "Input goals list"),
     }
-    OUTPUT_PORTS: ClassVar = {"output_goals": _out(list, "The first goals")}
+    OUTPUT_PORTS: ClassVar = {"output_goals": output_port(list, "The first goals")}
 
     def update(self) -> Status:
         goals = list(self.optional("input_goals") or [])

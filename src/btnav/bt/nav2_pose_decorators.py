@@ -19,21 +19,13 @@ from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, TickGen, halt
+from .base import TIME_EPS, DecoratorNode, F, R, S, TickGen, halt, input_port
 from .nav2_context import (
     DEFAULT_GLOBAL_FRAME,
     DEFAULT_ROBOT_BASE_FRAME,
     PoseLike,
     same_goal,
 )
-
-S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
-
-
-def _in(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
 
 
 class Nav2Decorator(DecoratorNode):
@@ -82,9 +74,9 @@ class DistanceController(Nav2Decorator):
     is `distance` metres (straight line) from where the child last succeeded."""
 
     INPUT_PORTS: ClassVar = {
-        "distance": _in(float, "The distance travelled to trigger the child (m)", 1.0),
-        "global_frame": _in(str, "Reference frame (bt_navigator's if not given)"),
-        "robot_base_frame": _in(str, "Robot base frame (bt_navigator's if not given)"),
+        "distance": input_port(float, "The distance travelled to trigger the child (m)", 1.0),
+        "global_frame": input_port(str, "Reference frame (bt_navigator's if not given)"),
+        "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -119,12 +111,16 @@ class SpeedController(Nav2Decorator):
     speed (odometry) between `min_speed` and `max_speed`; at once on a new goal."""
 
     INPUT_PORTS: ClassVar = {
-        "min_rate": _in(float, "The minimum rate at which the child is ticked (Hz)", 0.1),
-        "max_rate": _in(float, "The maximum rate at which the child is ticked (Hz)", 1.0),
-        "min_speed": _in(float, "Speed (m/s) at or below which the minimum rate applies", 0.0),
-        "max_speed": _in(float, "Speed (m/s) at or above which the maximum rate applies", 0.5),
-        "goal": _in(PoseLike, 'Destination to check; "{goal}" if not specified'),
-        "goals": _in(list, 'Vector of goals to check; "{goals}" if not specified'),
+        "min_rate": input_port(float, "The minimum rate at which the child is ticked (Hz)", 0.1),
+        "max_rate": input_port(float, "The maximum rate at which the child is ticked (Hz)", 1.0),
+        "min_speed": input_port(
+            float, "Speed (m/s) at or below which the minimum rate applies", 0.0
+        ),
+        "max_speed": input_port(
+            float, "Speed (m/s) at or above which the maximum rate applies", 0.5
+        ),
+        "goal": input_port(PoseLike, 'Destination to check; "{goal}" if not specified'),
+        "goals": input_port(list, 'Vector of goals to check; "{goals}" if not specified'),
     }
     OUTPUT_PORTS: ClassVar = {}
     DEFAULT_KEYS: ClassVar = {"goal": "{goal}", "goals": "{goals}"}
@@ -175,8 +171,8 @@ class GoalUpdatedController(Nav2Decorator):
     """Tick the child on the first tick of a run, while it runs, and when the goal changes."""
 
     INPUT_PORTS: ClassVar = {
-        "goal": _in(PoseLike, 'Destination to check; "{goal}" if not specified'),
-        "goals": _in(list, 'Vector of goals to check; "{goals}" if not specified'),
+        "goal": input_port(PoseLike, 'Destination to check; "{goal}" if not specified'),
+        "goals": input_port(list, 'Vector of goals to check; "{goals}" if not specified'),
     }
     OUTPUT_PORTS: ClassVar = {}
     DEFAULT_KEYS: ClassVar = {"goal": "{goal}", "goals": "{goals}"}
@@ -208,8 +204,8 @@ class GoalUpdater(Nav2Decorator):
     GOAL_TOPIC: ClassVar[str] = "goal_update"
     GOALS_TOPIC: ClassVar[str] = "goals_update"
     INPUT_PORTS: ClassVar = {
-        "input_goal": _in(PoseLike, "The original goal pose"),
-        "input_goals": _in(list, "The original goals poses"),
+        "input_goal": input_port(PoseLike, "The original goal pose"),
+        "input_goals": input_port(list, "The original goals poses"),
     }
     OUTPUT_PORTS: ClassVar = {
         "output_goal": PortInformation(PoseLike, required=False, description="The updated goal"),
@@ -255,9 +251,11 @@ class PathLongerOnApproach(Nav2Decorator):
     more than `length_factor` times longer than the old one; SUCCESS otherwise."""
 
     INPUT_PORTS: ClassVar = {
-        "path": _in(Path, "The planned path"),
-        "prox_len": _in(float, "Proximity length (m) for the path to be longer on approach", 3.0),
-        "length_factor": _in(float, "Factor by which the new path must be longer", 2.0),
+        "path": input_port(Path, "The planned path"),
+        "prox_len": input_port(
+            float, "Proximity length (m) for the path to be longer on approach", 3.0
+        ),
+        "length_factor": input_port(float, "Factor by which the new path must be longer", 2.0),
     }
     OUTPUT_PORTS: ClassVar = {}
 

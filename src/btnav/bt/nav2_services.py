@@ -29,20 +29,12 @@ from ..core.messages import Path, PoseStamped
 from ..core.suggest import best_match
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ..plugins import register
+from .base import F, S, input_port
 from .nav2_context import Nav2Leaf, PoseLike, increment_recovery_count, integrated_index
 
-S, F = Status.SUCCESS, Status.FAILURE
-
-
-def _in(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
-
-
 SERVICE_INPUTS: dict[str, PortInformation] = {
-    "service_name": _in(str, "Service name"),
-    "server_timeout": _in(int, "Service server timeout (ms); the sim answers at once"),
+    "service_name": input_port(str, "Service name"),
+    "server_timeout": input_port(int, "Service server timeout (ms); the sim answers at once"),
 }
 
 
@@ -96,7 +88,7 @@ class _ClearCostmap(BtServiceNode):
 
     INPUT_PORTS: ClassVar = {
         **SERVICE_INPUTS,
-        "plugins": _in(list[str], "Costmap plugins to clear (all if not given)"),
+        "plugins": input_port(list[str], "Costmap plugins to clear (all if not given)"),
     }
     OUTPUT_PORTS: ClassVar = {}
 
@@ -125,7 +117,7 @@ class ClearCostmapExceptRegion(_ClearCostmap):
     """Clear a costmap outside the square of side `reset_distance` round the robot."""
 
     INPUT_PORTS: ClassVar = {
-        "reset_distance": _in(float, "Side of the square round the robot kept", 1.0),
+        "reset_distance": input_port(float, "Side of the square round the robot kept", 1.0),
         **_ClearCostmap.INPUT_PORTS,
     }
 
@@ -138,7 +130,7 @@ class ClearCostmapAroundRobot(ClearCostmapExceptRegion):
     """Clear a costmap inside the square of side `reset_distance` round the robot."""
 
     INPUT_PORTS: ClassVar = {
-        "reset_distance": _in(float, "Side of the square round the robot cleared", 1.0),
+        "reset_distance": input_port(float, "Side of the square round the robot cleared", 1.0),
         **_ClearCostmap.INPUT_PORTS,
     }
 
@@ -148,8 +140,8 @@ class ClearCostmapAroundPose(_ClearCostmap):
     """Clear a costmap within `reset_distance` of `pose` (service `<costmap>/clear_around_pose`)."""
 
     INPUT_PORTS: ClassVar = {
-        "pose": _in(PoseLike, "Pose around which to clear the costmap"),
-        "reset_distance": _in(
+        "pose": input_port(PoseLike, "Pose around which to clear the costmap"),
+        "reset_distance": input_port(
             float, "Distance from the pose under which obstacles are cleared", 1.0
         ),
         **_ClearCostmap.INPUT_PORTS,
@@ -178,13 +170,19 @@ class ValidatePath(BtServiceNode):
 
     SERVICE = "is_path_valid"
     INPUT_PORTS: ClassVar = {
-        "path": _in(Path, "The global path to check for validity"),
-        "max_cost": _in(int, "The maximum allowable cost for the path to be valid", 254),
-        "consider_unknown_as_obstacle": _in(bool, "Whether unknown cost is an obstacle", False),
-        "layer_name": _in(str, "The costmap layer to check against (all if empty)", ""),
-        "footprint": _in(str, "Custom footprint [[x1,y1],[x2,y2],...] (the robot's if empty)", ""),
-        "stop_at_first_collision": _in(bool, "Stop at the first invalid pose", True),
-        "max_lookahead_distance": _in(float, "Distance along the path checked (-1: all)", -1.0),
+        "path": input_port(Path, "The global path to check for validity"),
+        "max_cost": input_port(int, "The maximum allowable cost for the path to be valid", 254),
+        "consider_unknown_as_obstacle": input_port(
+            bool, "Whether unknown cost is an obstacle", False
+        ),
+        "layer_name": input_port(str, "The costmap layer to check against (all if empty)", ""),
+        "footprint": input_port(
+            str, "Custom footprint [[x1,y1],[x2,y2],...] (the robot's if empty)", ""
+        ),
+        "stop_at_first_collision": input_port(bool, "Stop at the first invalid pose", True),
+        "max_lookahead_distance": input_port(
+            float, "Distance along the path checked (-1: all)", -1.0
+        ),
         **SERVICE_INPUTS,
     }
     OUTPUT_PORTS: ClassVar = {
