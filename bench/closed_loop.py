@@ -37,8 +37,8 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 
+from btnav import Navigator  # noqa: E402
 from btnav.control.regulated_pure_pursuit import NAV2_DOCS_SECTION as RPP  # noqa: E402
-from btnav.navigators import Navigator  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 WORLD = REPO / "worlds" / "small_office.yaml"

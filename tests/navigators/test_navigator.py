@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
+from btnav import Navigator
 from btnav.core.error_codes import ComputePathToPoseError, Outcome
 from btnav.core.geometry import Pose2D
-from btnav.navigators import Navigator
 from btnav.navigators.waypoint_follower import WaitAtWaypoint
 from btnav.plugins import lookup
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 import yaml
 
+from btnav import Navigator
 from btnav.core.errors import BtnavError
-from btnav.navigators import Navigator
 from btnav.navigators.bt_navigator import NavigateThroughPosesNavigator, NavigateToPoseNavigator
 from btnav.params import load_params
 from btnav.plugins import lookup, register, unregister

@@ -28,7 +28,7 @@ from ..core.suggest import best_match
 from ..core.yaml_io import line_at
 from ..maps.map_io import load_map
 from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
-from ..navigators.navigator import Navigator
+from ..navigators.navigator import BasicNavigator
 from ..params.loader import ROS_PARAMETERS, load_params
 from ..params.paramsfile import ParamsFile
 from ..params.updates import _override_target, apply_overrides
@@ -48,7 +48,7 @@ from .spec import (
     set_by,
 )
 
-N = TypeVar("N", bound=Navigator)
+N = TypeVar("N", bound=BasicNavigator)
 
 #: The tree a task's goals run in, by the bt_navigator action that serves them.
 TASK_ACTION = {
@@ -197,7 +197,7 @@ class Mission:
             key=f"bt_navigator.{key}",
         )
 
-    def navigator(self, cls: type[N] = Navigator) -> N:  # type: ignore[assignment]
+    def navigator(self, cls: type[N] = BasicNavigator) -> N:  # type: ignore[assignment]
         """The whole bring-up (world, servers, bt_navigator, waypoint_follower) at t = 0;
         first, every frame the params name is checked against the robot's frame tree."""
         world = self.build_world()

@@ -10,11 +10,11 @@ from collections.abc import Mapping
 from os import PathLike
 from typing import Any
 
-from ..navigators.navigator import Navigator as _Navigator
+from ..navigators.navigator import BasicNavigator
 from .mission import Mission
 
 
-class Navigator(_Navigator):
+class Navigator(BasicNavigator):
     """nav2_simple_commander's BasicNavigator in Python spelling (see `btnav.navigators`)."""
 
     mission: Mission | None = None

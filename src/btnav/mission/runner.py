@@ -19,7 +19,7 @@ from typing import Any
 
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
-from ..navigators.navigator import Navigator
+from ..navigators.navigator import BasicNavigator
 from .bt_log import BtLog
 from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission
@@ -28,7 +28,7 @@ from .report import RunReport
 from .trajectory import TrajectoryRecorder
 
 
-def start_task(nav: Navigator, mission: Mission) -> bool:
+def start_task(nav: BasicNavigator, mission: Mission) -> bool:
     """Send the mission's task; False if the server rejected it."""
     poses = [Pose2D(*p) for p in mission.spec.task.poses]
     if mission.task == "navigate_to_pose":
@@ -41,7 +41,7 @@ def start_task(nav: Navigator, mission: Mission) -> bool:
 def run_mission(
     mission: Mission,
     out_dir: str | Path | None = None,
-    progress: Callable[[Navigator], None] | None = None,
+    progress: Callable[[BasicNavigator], None] | None = None,
 ) -> RunReport:
     """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
 
@@ -113,7 +113,7 @@ def run_mission(
 
 def _report(
     mission: Mission,
-    nav: Navigator,
+    nav: BasicNavigator,
     result: NavResult | None,
     recorder: TrajectoryRecorder,
     counters: NavigationCounters,

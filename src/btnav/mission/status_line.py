@@ -20,7 +20,7 @@ from typing import Any, TextIO
 from py_trees.common import Status
 
 from ..bt.nav2_actions import BtActionNode
-from ..navigators.navigator import Navigator
+from ..navigators.navigator import BasicNavigator
 
 #: Wall seconds between redraws: often enough to look live, rarely enough to cost nothing.
 REDRAW_INTERVAL = 0.25
@@ -51,7 +51,7 @@ def format_status(
     return line
 
 
-def running_actions(nav: Navigator) -> list[str]:
+def running_actions(nav: BasicNavigator) -> list[str]:
     """The node types of the RUNNING leaves of the tree that runs the current goal, action
     nodes first (ComputePathToPose, FollowPath, Spin, ...), each once, in tree order."""
     for navigator in nav.bt_navigator.navigators.values():
@@ -71,7 +71,7 @@ def _depth_first(node: Any) -> Iterator[Any]:
         yield from _depth_first(child)
 
 
-def current_waypoint(nav: Navigator, task: str, goals: int) -> tuple[int, int] | None:
+def current_waypoint(nav: BasicNavigator, task: str, goals: int) -> tuple[int, int] | None:
     """(1-based index of the pose being driven to, number of poses), from the task's feedback."""
     feedback = nav.get_feedback()
     if task == "follow_waypoints" and feedback is not None:
@@ -112,7 +112,7 @@ class StatusLine:
         self._next = 0.0
         self._shown = 0  # characters on the line now
 
-    def __call__(self, nav: Navigator) -> None:
+    def __call__(self, nav: BasicNavigator) -> None:
         if not self.enabled:
             return
         wall = self.wall_clock()

@@ -1,4 +1,4 @@
-"""bt_navigator, waypoint_follower and the Python `Navigator` API (above the trees)."""
+"""bt_navigator, waypoint_follower and the Python API (`BasicNavigator`) (above the trees)."""
 
 from .bt_navigator import (
     BtNavigator,
@@ -7,7 +7,7 @@ from .bt_navigator import (
     NavigateToPoseFeedback,
     NavigateToPoseGoal,
 )
-from .navigator import Navigator
+from .navigator import BasicNavigator
 from .waypoint_follower import (
     FollowWaypointsGoal,
     FollowWaypointsResult,
@@ -17,6 +17,7 @@ from .waypoint_follower import (
 )
 
 __all__ = [
+    "BasicNavigator",
     "BtNavigator",
     "FollowWaypointsGoal",
     "FollowWaypointsResult",
@@ -25,7 +26,6 @@ __all__ = [
     "NavigateThroughPosesGoal",
     "NavigateToPoseFeedback",
     "NavigateToPoseGoal",
-    "Navigator",
     "WaitAtWaypoint",
     "WaypointFollower",
 ]

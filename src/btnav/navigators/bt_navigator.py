@@ -103,7 +103,7 @@ class NavigatorParams(ParamsModel):
     groot_server_port: int = ignored(1667, Why.GROOT)
 
 
-class Navigator(ActionServer[Any]):
+class BehaviorTreeNavigator(ActionServer[Any]):
     """One of bt_navigator's navigators: an action server that runs a tree per goal.
 
     A `navigator` plugin, built as `cls(name, params)` and then `configure(bt_navigator)`
@@ -309,7 +309,7 @@ class Navigator(ActionServer[Any]):
     "btnav/NavigateToPoseNavigator",
     aliases=["nav2_bt_navigator::NavigateToPoseNavigator"],
 )
-class NavigateToPoseNavigator(Navigator):
+class NavigateToPoseNavigator(BehaviorTreeNavigator):
     """nav2_bt_navigator::NavigateToPoseNavigator: `goal` on the blackboard."""
 
 
@@ -318,7 +318,7 @@ class NavigateToPoseNavigator(Navigator):
     "btnav/NavigateThroughPosesNavigator",
     aliases=["nav2_bt_navigator::NavigateThroughPosesNavigator"],
 )
-class NavigateThroughPosesNavigator(Navigator):
+class NavigateThroughPosesNavigator(BehaviorTreeNavigator):
     """nav2_bt_navigator::NavigateThroughPosesNavigator: `goals` on the blackboard."""
 
     action_name = "NavigateThroughPoses"
@@ -364,10 +364,10 @@ class BtNavigator:
             "global_frame": self.params.global_frame,
             "robot_base_frame": self.params.robot_base_frame,
         }
-        self.navigators: dict[str, Navigator] = {}
+        self.navigators: dict[str, BehaviorTreeNavigator] = {}
         #: Called as `listener(navigator, now)` when a tree is built and after every tick
         #: and halt of it (the mission's bt_log reads node statuses there).
-        self.tick_listeners: list[Callable[[Navigator, float], None]] = []
+        self.tick_listeners: list[Callable[[BehaviorTreeNavigator, float], None]] = []
         for section in server.plugins_of("navigator"):
             if section.cls is None:
                 raise PluginError(
@@ -376,15 +376,15 @@ class BtNavigator:
                     key=section.key,
                     suggestion=best_match(section.type, names("navigator", aliases=True)),
                 )
-            nav: Navigator = make_plugin(section)
+            nav: BehaviorTreeNavigator = make_plugin(section)
             nav.configure(self)
             self.navigators[section.name] = runtime.add(nav)
 
-    def notify(self, navigator: Navigator, now: float) -> None:
+    def notify(self, navigator: BehaviorTreeNavigator, now: float) -> None:
         for listener in self.tick_listeners:
             listener(navigator, now)
 
-    def halt_others(self, starting: Navigator) -> None:
+    def halt_others(self, starting: BehaviorTreeNavigator) -> None:
         """One tree at a time: a goal on one navigator aborts the other's running goal."""
         for nav in self.navigators.values():
             if nav is not starting and nav.current is not None and nav.current.active:

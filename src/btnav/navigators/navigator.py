@@ -1,7 +1,9 @@
 """The Python API: nav2_simple_commander's BasicNavigator in Python spelling.
 
+`btnav.Navigator` (in `mission/`) is this class plus `from_mission`.
+
 ```python
-nav = Navigator.from_files("worlds/small_office.yaml", "params/nav2_params.yaml",
+nav = BasicNavigator.from_files("worlds/small_office.yaml", "params/nav2_params.yaml",
                            "maps/small_office.yaml", seed=0)
 nav.go_to_pose((6.0, 3.0, 0.0))
 while not nav.is_task_complete():      # each poll advances sim time (rclpy's spin)
@@ -21,7 +23,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from pathlib import Path as FilePath
-from typing import Any
+from typing import Any, Self
 
 from ..behaviors.back_up import BackUpGoal
 from ..behaviors.spin import SpinGoal
@@ -46,7 +48,7 @@ def _pose(p: Any) -> Any:
     return p if hasattr(p, "x") or hasattr(p, "pose") else Pose2D(*p)
 
 
-class Navigator:
+class BasicNavigator:
     """A whole Nav2 bring-up on one runtime, driven like BasicNavigator."""
 
     poll_period = 0.1
@@ -76,7 +78,7 @@ class Navigator:
         seed: int = 0,
         localization: str = "ground_truth",
         tree: str | None = None,
-    ) -> Navigator:
+    ) -> Self:
         """World, params and map files (or a built `World`); `tree` replaces bt_navigator's
         default NavigateToPose tree (a file, or a bundled tree's bare name)."""
         w = world if isinstance(world, World) else World.from_file(world, seed=seed)
