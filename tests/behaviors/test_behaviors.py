@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-from btnav.behaviors import BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
 from btnav.core.error_codes import BackUpError, DriveOnHeadingError, SpinError, WaitError
 from btnav.core.errors import ParamsError
 from btnav.core.geometry import angle_diff
+from btnav.core.nav2_msgs import BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
 from btnav.nav import GoalStatus
 from btnav.params import load_params
 

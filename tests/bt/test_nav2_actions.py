@@ -192,7 +192,7 @@ def test_clear_entire_costmap_calls_the_stacks_service_and_counts_a_recovery(sta
 
 def test_cancel_control_cancels_the_controllers_goal(stack):
     _world, rt, _nav = stack
-    from btnav.nav.controller_server import FollowPathGoal
+    from btnav.core.nav2_msgs import FollowPathGoal
 
     path = plan(rt, DOORWAY_GOAL).result.value
     handle = rt.action_client("follow_path").send_goal(FollowPathGoal(path))

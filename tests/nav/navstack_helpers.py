@@ -10,9 +10,8 @@ from pathlib import Path
 import yaml
 
 from btnav.core.geometry import Pose2D
+from btnav.core.nav2_msgs import ComputePathToPoseGoal, FollowPathGoal
 from btnav.maps.map_io import load_map
-from btnav.nav.controller_server import FollowPathGoal
-from btnav.nav.planner_server import ComputePathToPoseGoal
 from btnav.nav.runtime import Runtime
 from btnav.nav.stack import NavStack
 from btnav.sim.world import World

@@ -10,10 +10,9 @@ from btnav.core.error_codes import FollowPathError, SmoothPathError
 from btnav.core.errors import ParamsError
 from btnav.core.geometry import Pose2D
 from btnav.core.messages import Path
+from btnav.core.nav2_msgs import FollowPathGoal, SmoothPathGoal, SpinGoal
 from btnav.costmap.cost_values import FREE_SPACE
 from btnav.nav import GoalStatus
-from btnav.nav.controller_server import FollowPathGoal
-from btnav.nav.smoother_server import SmoothPathGoal
 from btnav.nav.stack import NavStack
 
 from .navstack_helpers import DWB, office, params_with_controller, plan
@@ -173,7 +172,6 @@ def test_a_path_is_set_once_and_only_refreshed_as_map_to_odom_moves(tmp_path):
 
 
 def test_the_stack_serves_nav2s_behaviors_on_its_local_costmap():
-    from btnav.behaviors import SpinGoal
     from btnav.core.error_codes import SpinError
 
     world, rt, stack = office()

@@ -8,26 +8,11 @@ signs, as Nav2's BackUp does: `backup_dist: 0.3, backup_speed: 0.05` and
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 from ..plugins import register
 from .behavior import BehaviorOutcome
-from .drive_on_heading import DriveOnHeading, DriveOnHeadingFeedback, _point
-
-
-@dataclass(frozen=True)
-class BackUpGoal:
-    """nav2_msgs/action/BackUp goal: `target` x (or a number) metres back at `speed` m/s."""
-
-    target: Any = 0.15
-    speed: float = 0.025
-    time_allowance: float = 10.0
-    disable_collision_checks: bool = False
-
-
-#: BackUp's feedback has the same field as DriveOnHeading's.
-BackUpFeedback = DriveOnHeadingFeedback
+from .drive_on_heading import DriveOnHeading, _point
 
 
 @register("behavior", "nav2_behaviors::BackUp", aliases=["btnav/BackUp"])

@@ -28,6 +28,7 @@ from typing import Any, ClassVar, Protocol
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Twist
+from ..core.nav2_msgs import BehaviorResult
 from ..params.navigation import BehaviorServerParams
 from ..params.schema import ParamsModel
 from .collision import CollisionChecker
@@ -45,13 +46,6 @@ class BehaviorEnv(Protocol):
 
 
 @dataclass(frozen=True)
-class BehaviorResult:
-    """The action's result fields besides the error code (Nav2: `total_elapsed_time`)."""
-
-    total_elapsed_time: float
-
-
-@dataclass(frozen=True)
 class BehaviorOutcome:
     """How a goal ended: `status` "succeeded" | "failed" | "canceled", Nav2's code name
     (`error`, "NONE" on success) and a message; `result` is the action's result."""
@@ -59,7 +53,7 @@ class BehaviorOutcome:
     status: str
     error: str = "NONE"
     message: str = ""
-    result: BehaviorResult = BehaviorResult(0.0)
+    result: BehaviorResult = BehaviorResult(0.0)  # noqa: RUF009 (frozen: one shared zero is safe)
 
     @property
     def succeeded(self) -> bool:

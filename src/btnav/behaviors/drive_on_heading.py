@@ -11,7 +11,6 @@ the footprint; a lethal cell under it stops the robot with COLLISION_AHEAD.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -19,6 +18,7 @@ from pydantic import Field
 
 from ..core import fmath
 from ..core.geometry import Pose2D
+from ..core.nav2_msgs import DriveOnHeadingFeedback
 from ..plugins import register
 from .behavior import Behavior, BehaviorOutcome
 
@@ -29,22 +29,6 @@ def _point(value: Any) -> tuple[float, float, float]:
         return (float(value), 0.0, 0.0)
     v = tuple(float(c) for c in value)
     return (*v, 0.0, 0.0, 0.0)[:3]  # type: ignore[return-value]
-
-
-@dataclass(frozen=True)
-class DriveOnHeadingGoal:
-    """nav2_msgs/action/DriveOnHeading goal. `target` is a Point (only x may be non-zero)
-    or a number (x); `speed` has the sign of the motion (negative drives backwards)."""
-
-    target: Any = 0.15
-    speed: float = 0.025
-    time_allowance: float = 10.0
-    disable_collision_checks: bool = False
-
-
-@dataclass(frozen=True)
-class DriveOnHeadingFeedback:
-    distance_traveled: float
 
 
 @register("behavior", "nav2_behaviors::DriveOnHeading", aliases=["btnav/DriveOnHeading"])

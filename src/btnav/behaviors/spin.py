@@ -12,27 +12,13 @@ only collide if it already touches something; a rectangular one sweeps corners).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..core.geometry import angle_diff
+from ..core.nav2_msgs import SpinFeedback, SpinGoal
 from ..plugins import register
 from .behavior import Behavior, BehaviorOutcome
-
-
-@dataclass(frozen=True)
-class SpinGoal:
-    """nav2_msgs/action/Spin goal: radians to turn (sign = direction), seconds allowed."""
-
-    target_yaw: float = 1.57
-    time_allowance: float = 10.0
-    disable_collision_checks: bool = False
-
-
-@dataclass(frozen=True)
-class SpinFeedback:
-    angular_distance_traveled: float
 
 
 @register("behavior", "nav2_behaviors::Spin", aliases=["btnav/Spin"])

@@ -3,22 +3,10 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
+from ..core.nav2_msgs import WaitFeedback, WaitGoal
 from ..plugins import register
 from .behavior import Behavior, BehaviorOutcome
-
-
-@dataclass(frozen=True)
-class WaitGoal:
-    """nav2_msgs/action/Wait goal: `time` in seconds."""
-
-    time: float = 1.0
-
-
-@dataclass(frozen=True)
-class WaitFeedback:
-    time_left: float
 
 
 @register("behavior", "nav2_behaviors::Wait", aliases=["btnav/Wait"])

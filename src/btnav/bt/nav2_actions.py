@@ -31,15 +31,21 @@ from typing import Any, ClassVar
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
-from ..behaviors import BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
 from ..core.error_codes import NavErrorCode, NavResult, error_codes
 from ..core.errors import UnknownNameError
 from ..core.messages import Path
+from ..core.nav2_msgs import (
+    BackUpGoal,
+    ComputePathThroughPosesGoal,
+    ComputePathToPoseGoal,
+    DriveOnHeadingGoal,
+    FollowPathGoal,
+    SmoothPathGoal,
+    SpinGoal,
+    WaitGoal,
+)
 from ..core.suggest import best_match
 from ..nav.actions import GoalHandle, GoalStatus
-from ..nav.controller_server import FollowPathGoal
-from ..nav.planner_server import ComputePathThroughPosesGoal, ComputePathToPoseGoal
-from ..nav.smoother_server import SmoothPathGoal
 from ..plugins import register
 from .base import F, R, S, input_port, output_port
 from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_count, same_path

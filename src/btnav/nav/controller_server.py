@@ -30,7 +30,6 @@ their state (Nav2's `updateGlobalPath`), the goal checker is reset.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,6 +40,7 @@ from ..core.errors import FrameError
 from ..core.frames import MAP
 from ..core.geometry import Pose2D, angle_diff, compose_arrays
 from ..core.messages import Path, TrackingFeedback, Twist
+from ..core.nav2_msgs import FollowPathGoal
 from ..params.paramsfile import ServerParams
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
@@ -51,14 +51,6 @@ from .server_plugins import make_plugin, make_plugins, pick
 #: A map -> odom change beyond these re-sends the plan to the controller in the odom frame.
 _REPLAN_XY = 0.01
 _REPLAN_YAW = 0.005
-
-
-@dataclass
-class FollowPathGoal:
-    path: Path
-    controller_id: str = ""
-    goal_checker_id: str = ""
-    progress_checker_id: str = ""
 
 
 class _Ticker:

@@ -18,8 +18,6 @@ pass while a plan is computed), so `expected_planner_frequency` has nothing to t
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -33,30 +31,13 @@ from ..core.error_codes import (
 from ..core.errors import FrameError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
+from ..core.nav2_msgs import ComputePathThroughPosesGoal, ComputePathToPoseGoal, PoseLike
 from ..params.paramsfile import ServerParams
 from ..planning.exceptions import PlannerException
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugins, pick
-
-PoseLike = Pose2D | PoseStamped | Sequence[float]
-
-
-@dataclass
-class ComputePathToPoseGoal:
-    goal: PoseLike
-    planner_id: str = ""
-    start: PoseLike | None = None
-    use_start: bool = False
-
-
-@dataclass
-class ComputePathThroughPosesGoal:
-    goals: list[PoseLike] = field(default_factory=list)
-    planner_id: str = ""
-    start: PoseLike | None = None
-    use_start: bool = False
 
 
 class _PlanError(Exception):

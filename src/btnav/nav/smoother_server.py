@@ -10,13 +10,12 @@ pass during a call), so `max_smoothing_duration` never expires here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..core.error_codes import NavResult, SmoothPathError
-from ..core.messages import Path
+from ..core.nav2_msgs import SmoothPathGoal
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from ..params.paramsfile import ServerParams
 from ..planning.exceptions import SmootherException
@@ -25,14 +24,6 @@ from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
 from .runtime import Runtime, Stage
 from .server_plugins import make_plugins, pick
-
-
-@dataclass
-class SmoothPathGoal:
-    path: Path
-    smoother_id: str = ""
-    max_smoothing_duration: float = 1.0
-    check_for_collisions: bool = True
 
 
 class SmootherServer:

@@ -1,31 +1,10 @@
-"""bt_navigator, waypoint_follower and the Python API (`BasicNavigator`) (above the trees)."""
+"""bt_navigator, waypoint_follower and the Python API (`BasicNavigator`), above the trees.
 
-from .bt_navigator import (
-    BtNavigator,
-    NavigateThroughPosesFeedback,
-    NavigateThroughPosesGoal,
-    NavigateToPoseFeedback,
-    NavigateToPoseGoal,
-)
+Their actions' goals, feedback and results are in `btnav.core.nav2_msgs`.
+"""
+
+from .bt_navigator import BtNavigator
 from .navigator import BasicNavigator
-from .waypoint_follower import (
-    FollowWaypointsGoal,
-    FollowWaypointsResult,
-    MissedWaypoint,
-    WaitAtWaypoint,
-    WaypointFollower,
-)
+from .waypoint_follower import WaitAtWaypoint, WaypointFollower
 
-__all__ = [
-    "BasicNavigator",
-    "BtNavigator",
-    "FollowWaypointsGoal",
-    "FollowWaypointsResult",
-    "MissedWaypoint",
-    "NavigateThroughPosesFeedback",
-    "NavigateThroughPosesGoal",
-    "NavigateToPoseFeedback",
-    "NavigateToPoseGoal",
-    "WaitAtWaypoint",
-    "WaypointFollower",
-]
+__all__ = ["BasicNavigator", "BtNavigator", "WaitAtWaypoint", "WaypointFollower"]

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -38,6 +37,12 @@ from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, N
 from ..core.errors import PluginError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
+from ..core.nav2_msgs import (
+    NavigateThroughPosesFeedback,
+    NavigateThroughPosesGoal,
+    NavigateToPoseFeedback,
+    NavigateToPoseGoal,
+)
 from ..core.suggest import best_match
 from ..nav.actions import ActionServer, GoalHandle
 from ..nav.runtime import Runtime, Stage
@@ -47,32 +52,6 @@ from ..params.schema import ParamsModel, Why, ignored
 from ..plugins import names, register
 
 Blackboard = py_trees.blackboard.Blackboard
-
-
-@dataclass
-class NavigateToPoseGoal:
-    pose: Any  # Pose2D, PoseStamped or (x, y, yaw)
-    behavior_tree: str = ""
-
-
-@dataclass
-class NavigateThroughPosesGoal:
-    poses: list[Any] = field(default_factory=list)
-    behavior_tree: str = ""
-
-
-@dataclass
-class NavigateToPoseFeedback:
-    current_pose: Pose2D
-    navigation_time: float
-    estimated_time_remaining: float
-    number_of_recoveries: int
-    distance_remaining: float
-
-
-@dataclass
-class NavigateThroughPosesFeedback(NavigateToPoseFeedback):
-    number_of_poses_remaining: int = 0
 
 
 def _pose(value: Any) -> Any:

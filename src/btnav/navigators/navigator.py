@@ -25,21 +25,26 @@ from os import PathLike
 from pathlib import Path as FilePath
 from typing import Any, Self
 
-from ..behaviors.back_up import BackUpGoal
-from ..behaviors.spin import SpinGoal
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
 from ..core.messages import Path
+from ..core.nav2_msgs import (
+    BackUpGoal,
+    ComputePathToPoseGoal,
+    FollowWaypointsGoal,
+    NavigateThroughPosesGoal,
+    NavigateToPoseGoal,
+    SpinGoal,
+)
 from ..maps.map_io import load_map, save_map
 from ..nav.actions import GoalHandle
-from ..nav.planner_server import ComputePathToPoseGoal
 from ..nav.runtime import Runtime
 from ..nav.stack import NavStack
 from ..params.loader import load_params
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..sim.world import World
-from .bt_navigator import BtNavigator, NavigateThroughPosesGoal, NavigateToPoseGoal
-from .waypoint_follower import FollowWaypointsGoal, WaypointFollower
+from .bt_navigator import BtNavigator
+from .waypoint_follower import WaypointFollower
 
 PoseArg = Pose2D | Sequence[float]
 

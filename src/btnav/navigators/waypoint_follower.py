@@ -17,50 +17,25 @@ time runs while a robot waits at a waypoint.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Any
 
 from pydantic import Field
 
 from ..core.error_codes import FollowWaypointsError, NavResult
 from ..core.geometry import Pose2D
+from ..core.nav2_msgs import (
+    FollowWaypointsFeedback,
+    FollowWaypointsGoal,
+    FollowWaypointsResult,
+    MissedWaypoint,
+    NavigateToPoseGoal,
+)
 from ..nav.actions import ActionServer, GoalHandle
 from ..nav.runtime import Runtime, Stage
 from ..nav.server_plugins import make_plugin
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.schema import ParamsModel
 from ..plugins import register
-from .bt_navigator import NavigateToPoseGoal
-
-
-@dataclass
-class FollowWaypointsGoal:
-    poses: list[Any] = field(default_factory=list)
-
-
-@dataclass(frozen=True)
-class MissedWaypoint:
-    """nav2_msgs/MissedWaypoint."""
-
-    index: int
-    goal: Any
-    error_code: int
-    error_msg: str = ""
-
-
-@dataclass
-class FollowWaypointsFeedback:
-    current_waypoint: int
-    missed_waypoints: list[MissedWaypoint]
-
-
-@dataclass
-class FollowWaypointsResult:
-    missed_waypoints: list[MissedWaypoint]
-
-    @property
-    def missed_indices(self) -> list[int]:
-        return [m.index for m in self.missed_waypoints]
 
 
 @register(
