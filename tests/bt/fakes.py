@@ -35,7 +35,7 @@ class Script(LeafNode):
         self.starts += 1
 
     def update(self) -> Status:
-        script = self.port("script").replace(" ", "")
+        script = self.get_input("script").replace(" ", "")
         letter = script[min(self.ticks, len(script) - 1)]
         self.ticks += 1
         return LETTERS[letter]
@@ -57,7 +57,7 @@ class Flag(LeafNode):
 
     def update(self) -> Status:
         self.ticks += 1
-        return Status.SUCCESS if self.port("value") else Status.FAILURE
+        return Status.SUCCESS if self.get_input("value") else Status.FAILURE
 
 
 @register("bt_node", "TestWrite")
@@ -68,7 +68,7 @@ class Write(LeafNode):
     OUTPUT_PORTS: ClassVar = {"out": PortInformation(str, required=False)}
 
     def update(self) -> Status:
-        self._set_output("out", self.port("value"))
+        self._set_output("out", self.get_input("value"))
         return Status.SUCCESS
 
 

@@ -134,9 +134,13 @@ class _BtNode(PortsMixin):
         # py_trees' global auto-registry is left to the user's own classes.
         super().__init_subclass__(register=register, **kwargs)
 
-    def port(self, name: str) -> Any:
-        """The value of an input port (its declared default when unset)."""
-        return self.get_input(name)
+    def optional(self, name: str) -> Any:
+        """An input port's value, or None when it has no data and no default (BT.CPP's
+        `getInput` returning false); `get_input` raises instead."""
+        try:
+            return self.get_input(name)
+        except NoDataAvailable:
+            return None
 
     # -- ports: py_trees' get_input/_set_output, with the key resolved once -----------------
     #

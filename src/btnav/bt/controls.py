@@ -168,8 +168,8 @@ class Parallel(ControlNode, _PtParallel):
 
     def tick_children(self) -> TickGen:
         n = len(self.children)
-        need_success = self._threshold(self.port("success_count"))
-        need_failure = self._threshold(self.port("failure_count"))
+        need_success = self._threshold(self.get_input("success_count"))
+        need_failure = self._threshold(self.get_input("failure_count"))
         if n < need_success:
             raise TreeError(f"Parallel '{self.name}': success_count {need_success} > {n} children")
         if n < need_failure:

@@ -68,7 +68,7 @@ class Repeat(DecoratorNode):
         self.repeat_count = 0
 
     def tick_decorated(self) -> TickGen:
-        cycles = self.port("num_cycles")
+        cycles = self.get_input("num_cycles")
         while cycles == -1 or self.repeat_count < cycles:
             status = yield from self.tick_child()
             if status == R:
@@ -98,7 +98,7 @@ class RetryUntilSuccessful(DecoratorNode):
         self.try_count = 0
 
     def tick_decorated(self) -> TickGen:
-        attempts = self.port("num_attempts")
+        attempts = self.get_input("num_attempts")
         while attempts == -1 or self.try_count < attempts:
             status = yield from self.tick_child()
             if status == R:
@@ -149,7 +149,7 @@ class Delay(_TimedDecorator):
 
     def tick_decorated(self) -> TickGen:
         if self.delay_end is None:
-            self.delay_end = self.now() + self.port("delay_msec") / 1000.0
+            self.delay_end = self.now() + self.get_input("delay_msec") / 1000.0
         if self.now() + TIME_EPS < self.delay_end:
             return R
         status = yield from self.tick_child()
@@ -174,7 +174,7 @@ class Timeout(_TimedDecorator):
 
     def tick_decorated(self) -> TickGen:
         if self.deadline is None:
-            msec = self.port("msec")
+            msec = self.get_input("msec")
             self.deadline = self.now() + msec / 1000.0 if msec > 0 else float("inf")
         elif self.now() + TIME_EPS >= self.deadline and self.decorated.status == R:
             halt(self.decorated)
@@ -206,7 +206,7 @@ class RunOnce(DecoratorNode):
 
     def tick_decorated(self) -> TickGen:
         if self.returned is not None:
-            if self.port("then_skip"):
+            if self.get_input("then_skip"):
                 self.skipped = True
                 return S
             return self.returned

@@ -26,7 +26,6 @@ from typing import Any, ClassVar
 import numpy as np
 import py_trees
 from py_trees.common import Status
-from py_trees.ports import NoDataAvailable
 
 from ..core import fmath
 from ..core.errors import BtnavError
@@ -152,14 +151,6 @@ class Nav2Leaf(LeafNode):
             self.clock = self.runtime.clock
 
     # -- ports --------------------------------------------------------------------------
-
-    def optional(self, name: str) -> Any:
-        """An input port's value, or None when it has no data and no default (BT.CPP's
-        `getInput` returning false)."""
-        try:
-            return self.get_input(name)
-        except NoDataAvailable:
-            return None
 
     def frame_port(self, port: str, fallback: str) -> str:
         """Nav2's `deconflictPortAndParamFrame`: the port if given, else bt_navigator's."""

@@ -58,7 +58,7 @@ class RecoveryNode(ControlNode, _PtSelector):
     def tick_children(self) -> TickGen:
         if len(self.children) != 2:
             raise TreeError(f"RecoveryNode '{self.name}' must only have 2 children")
-        retries = self.port("number_of_retries")
+        retries = self.get_input("number_of_retries")
         while self.current_child_idx < 2 and self.retry_count <= retries:
             child = self.children[self.current_child_idx]
             status = yield from self.tick_child(child)
@@ -115,7 +115,7 @@ class RoundRobin(ControlNode, _PtSelector):
 
     def tick_children(self) -> TickGen:
         n = len(self.children)
-        wrap_around = self.port("wrap_around")
+        wrap_around = self.get_input("wrap_around")
         num_skipped = 0
         while self.num_failed_children + num_skipped < n:
             child = self.children[self.current_child_idx]

@@ -42,7 +42,7 @@ class RateController(DecoratorNode):
 
     def tick_decorated(self) -> TickGen:
         if self.status == Status.INVALID:  # a new run (BT.CPP: status not active)
-            self.period = 1.0 / self.port("hz")
+            self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
             self.first_time = True
         elapsed = self.now() - self.start

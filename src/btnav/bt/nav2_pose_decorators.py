@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
-from py_trees.ports import NoDataAvailable, PortInformation
+from py_trees.ports import PortInformation
 
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
@@ -48,12 +48,6 @@ class Nav2Decorator(DecoratorNode):
         self.robot_base_frame = robot_base_frame or DEFAULT_ROBOT_BASE_FRAME
         super().__init__(name=name, child=child, **kwargs)
         self.clock = clock if clock is not None else getattr(runtime, "clock", None)
-
-    def optional(self, name: str) -> Any:
-        try:
-            return self.get_input(name)
-        except NoDataAvailable:
-            return None
 
     def robot_pose(self) -> Pose2D | None:
         if self.runtime is None:
@@ -94,7 +88,7 @@ class DistanceController(Nav2Decorator):
         if pose is None or self.start_pose is None:
             return F
         travelled = math.hypot(pose.x - self.start_pose.x, pose.y - self.start_pose.y)
-        if self.first_time or self.decorated.status == R or travelled >= self.port("distance"):
+        if self.first_time or self.decorated.status == R or travelled >= self.get_input("distance"):
             self.first_time = False
             status = yield from self.tick_child()
             if status == S:
@@ -133,8 +127,8 @@ class SpeedController(Nav2Decorator):
         self.goals: Any = None
 
     def _rate(self, speed: float) -> float:
-        lo, hi = self.port("min_rate"), self.port("max_rate")
-        smin, smax = self.port("min_speed"), self.port("max_speed")
+        lo, hi = self.get_input("min_rate"), self.get_input("max_rate")
+        smin, smax = self.get_input("min_speed"), self.get_input("max_speed")
         scaled = (speed - smin) / (smax - smin) * (hi - lo) + lo
         return max(min(scaled, hi), lo)
 
@@ -145,14 +139,14 @@ class SpeedController(Nav2Decorator):
         return math.hypot(odom.twist.linear_x, odom.twist.linear_y)
 
     def tick_decorated(self) -> TickGen:
-        if self.port("min_rate") <= 0.0 or self.port("max_rate") <= 0.0:
+        if self.get_input("min_rate") <= 0.0 or self.get_input("max_rate") <= 0.0:
             raise BtnavError(f"SpeedController '{self.name}' cannot have a rate <= 0.0")
         goal, goals = self.optional("goal"), self.optional("goals")
         if self.status == Status.INVALID or not (
             same_goal(goal, self.goal) and same_goal(goals, self.goals)
         ):
             self.goal, self.goals = goal, goals
-            self.period = 1.0 / self.port("max_rate")
+            self.period = 1.0 / self.get_input("max_rate")
             self.start = self.now()
             self.first_tick = True
         elapsed = self.now() - self.start
@@ -281,8 +275,8 @@ class PathLongerOnApproach(Nav2Decorator):
         )
         if (
             updated
-            and old.length() < self.port("prox_len")  # type: ignore[union-attr]
-            and new.length() > self.port("length_factor") * old.length()  # type: ignore[union-attr]
+            and old.length() < self.get_input("prox_len")  # type: ignore[union-attr]
+            and new.length() > self.get_input("length_factor") * old.length()  # type: ignore[union-attr]
             and not self.first_time
         ):
             status = yield from self.tick_child()
