@@ -10,7 +10,7 @@ import pytest
 from btnav.core.errors import BtnavError, BtnavWarning, FrameError, ParamsError
 from btnav.mission import Mission, MissionError
 
-from .missions import MAP, PARAMS, TOUR, WORLD, write_mission
+from .missions import MAP, PARAMS, REPO, TOUR, WORLD, write_mission
 
 
 def error_of(path: Path, **kw) -> BtnavError:
@@ -210,3 +210,22 @@ def test_a_task_pose_in_an_obstacle_or_off_the_map_is_a_warning(tmp_path):
     assert str(caught[0].message).startswith(
         '--set mission.task={"navigate_to_pose": [6.5, 1.2]}: task.navigate_to_pose: '
     )
+
+
+def test_a_file_given_by_set_is_relative_to_the_current_directory(tmp_path, monkeypatch):
+    """`btnav run missions/x.yaml --set mission.params=params/y.yaml` from the repository
+    root names the repository's params/y.yaml, as any path typed on a command line."""
+    monkeypatch.chdir(REPO)
+    m = Mission.load(
+        TOUR,
+        overrides={
+            "mission.params": "params/nav2_params_dwb.yaml",
+            "mission.tree": "navigate_w_replanning_time",
+        },
+    )
+    assert m.params.path == REPO / "params" / "nav2_params_dwb.yaml"
+    assert m.tree is not None and Path(m.tree).stem == "navigate_w_replanning_time"  # bundled
+    monkeypatch.chdir(tmp_path)
+    err = error_of(TOUR, overrides={"mission.params": "params/nav2_params_dwb.yaml"})
+    assert err.file == "--set mission.params=params/nav2_params_dwb.yaml"
+    assert str(tmp_path / "params" / "nav2_params_dwb.yaml") in str(err)

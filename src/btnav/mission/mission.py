@@ -59,10 +59,31 @@ TASK_ACTION = {
 
 
 def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
-    """`--set` keys: `mission.*` for the mission file, the rest for the params file."""
-    mission = {k: v for k, v in overrides.items() if k.split(".")[0] == "mission"}
-    params = {k: v for k, v in overrides.items() if k not in mission}
+    """`--set` keys: `mission.*` for the mission file, the rest for the params file.
+
+    A file a `--set` names (`mission.world`, `params`, `map`, and `tree` when it is a
+    path rather than a bundled tree's name) is relative to the current directory, as
+    any path typed on a command line; the mission file's own paths stay relative to it.
+    """
+    mission = {k: _from_cwd(k, v) for k, v in overrides.items() if k.split(".")[0] == "mission"}
+    params = {k: v for k, v in overrides.items() if k.split(".")[0] != "mission"}
     return mission, params
+
+
+_FILE_KEYS = ("world", "params", "map", "tree")
+
+
+def _from_cwd(key: str, value: Any) -> Any:
+    if mission_place(key) not in _FILE_KEYS or not isinstance(value, str):
+        return value
+    path = Path(value).expanduser()
+    if path.is_absolute() or (mission_place(key) == "tree" and not _looks_like_a_path(value)):
+        return value
+    return str(Path.cwd() / path)
+
+
+def _looks_like_a_path(value: str) -> bool:
+    return "/" in value or "\\" in value or value.endswith((".xml", ".yaml", ".yml"))
 
 
 @dataclass
@@ -111,8 +132,8 @@ class Mission:
         default: rendered from the value), which errors about that value name.
         """
         file = find_mission(path)
+        given = override_origins(dict(overrides or {}), origins)  # as typed
         mission_over, params_over = split_overrides(overrides or {})
-        given = override_origins({**mission_over, **params_over}, origins)
         if seed is not None:
             mission_over["mission.seed"] = seed
             given["mission.seed"] = f"--seed {seed}"
