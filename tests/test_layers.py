@@ -18,6 +18,7 @@ LAYERS: list[set[str]] = [
     {"bt"},
     {"navigators"},
     {"mission"},
+    {"batch"},
     {"cli", "viz", "testing"},
 ]
 LEVEL = {name: i for i, layer in enumerate(LAYERS) for name in layer}

@@ -83,6 +83,23 @@ def _run(args: argparse.Namespace) -> int:
     )
 
 
+def _batch(args: argparse.Namespace) -> int:
+    from .batch.batch_cli import batch_main
+
+    overrides, origins = _overrides(args)
+    return batch_main(
+        args.missions,
+        out=args.out,
+        seeds=args.seeds,
+        sweep=args.sweep or (),
+        workers=args.workers,
+        backend=args.backend,
+        address=args.address,
+        overrides=overrides,
+        origins=origins,
+    )
+
+
 def _frames_of_mission(args: argparse.Namespace) -> int:
     from .mission.frames import frames_main
 
@@ -116,6 +133,40 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="the seed (default: the mission's)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
     run.set_defaults(func=_run)
+
+    batch = sub.add_parser(
+        "batch",
+        help="run missions x seeds x swept params in parallel, resumably; "
+        "exit 0 all succeeded, 1 any failed, 2 user error",
+    )
+    batch.add_argument("missions", nargs="+", metavar="MISSION", help="mission .yaml files")
+    batch.add_argument(
+        "--out", required=True, help="the folder for results.csv, the summary and runs/"
+    )
+    batch.add_argument(
+        "--seeds",
+        metavar="A:B",
+        help="seeds A..B-1 (0:100 is 100 seeds), or N, or N1,N2,... (default: each mission's)",
+    )
+    batch.add_argument(
+        "--sweep",
+        action="append",
+        metavar="KEY=V1,V2",
+        help="a --set key and its values (0.3,0.5) or range (0.3:0.7:0.1, stop included); "
+        "repeatable: the runs are the product",
+    )
+    batch.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
+    batch.add_argument(
+        "--workers", type=int, help="runs at once (default: every core; with Ray, its CPUs)"
+    )
+    batch.add_argument(
+        "--backend",
+        choices=("local", "ray"),
+        default="local",
+        help="local: a process pool; ray: Ray tasks (the ray extra)",
+    )
+    batch.add_argument("--address", help="a running Ray cluster's address (default: a local Ray)")
+    batch.set_defaults(func=_batch)
 
     frames_cmd = sub.add_parser(
         "frames", help="print a mission's frame tree and check every frame its params name"

@@ -462,6 +462,10 @@ class IsWithinPathTrackingBounds(Nav2Leaf):
         error = getattr(feedback, "position_tracking_error", None)
         if error is None:
             return S
-        bound = self.get_input("max_error_left") if error >= 0.0 else self.get_input("max_error_right")
+        bound = (
+            self.get_input("max_error_left") if error >= 0.0 else self.get_input("max_error_right")
+        )
         heading = abs(feedback.heading_tracking_error)
-        return _status(abs(error) <= abs(bound) and heading <= abs(self.get_input("max_error_heading")))
+        return _status(
+            abs(error) <= abs(bound) and heading <= abs(self.get_input("max_error_heading"))
+        )
