@@ -36,8 +36,8 @@ from ..params.paramsfile import ServerParams
 from ..planning.exceptions import PlannerException
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
-from .runtime import Runtime, Stage
-from .server_plugins import make_plugins, pick
+from .runtime import Runtime
+from .server_plugins import PluginServer, pick
 
 
 class _PlanError(Exception):
@@ -46,10 +46,10 @@ class _PlanError(Exception):
         self.code_name = code_name
 
 
-class PlannerServer:
+class PlannerServer(PluginServer):
     """planner_server: owns the planner plugins and the two planning actions."""
 
-    stage = Stage.SERVER
+    kind = "planner"
 
     def __init__(
         self,
@@ -59,13 +59,7 @@ class PlannerServer:
         *,
         seed: int | None = None,
     ) -> None:
-        self.seed = runtime.seed if seed is None else seed
-        self.runtime = runtime
-        self.params = params
-        self.costmap = costmap
-        self.planners: dict[str, Any] = make_plugins(params, "planner", seed=self.seed)
-        # Planning takes no sim time: a goal is answered on the step after it is sent.
-        self.rate = 1.0 / runtime.physics_dt
+        super().__init__(runtime, params, costmap, seed=seed)
         self.to_pose: ActionServer[ComputePathToPoseGoal] = ActionServer(
             "ComputePathToPose", "compute_path_to_pose", on_start=self._to_pose
         )
@@ -86,11 +80,11 @@ class PlannerServer:
     ) -> Path:
         """Plan from `start` (the robot if None) to `goal` in the global frame; raises
         `PlannerException` (with `.error_code`) or `_PlanError` on failure."""
-        planner = pick(self.planners, planner_id)
+        planner = pick(self.plugins, planner_id)
         if planner is None:
             raise _PlanError(
                 "INVALID_PLANNER",
-                f"planner id '{planner_id}' is not one of: {', '.join(self.planners)}",
+                f"planner id '{planner_id}' is not one of: {', '.join(self.plugins)}",
             )
         start_pose = self._in_global(start) if start is not None else self._robot_pose()
         goal_pose = self._in_global(goal)
@@ -159,6 +153,6 @@ class PlannerServer:
         """Apply params `validate_update` accepted: plugins take their new sections."""
         self.params = params
         for name, section in params.plugins.items():
-            planner = self.planners.get(name)
+            planner = self.plugins.get(name)
             if planner is not None and section.params is not None:
                 planner.params = section.params

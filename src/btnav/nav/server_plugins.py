@@ -1,12 +1,14 @@
-"""Building a server's plugins from its params sections, and picking one by id, as Nav2 does."""
+"""Building a server's plugins from its params sections, and picking one by id, as Nav2 does;
+`PluginServer`, the shape planner_server and smoother_server share."""
 
 from __future__ import annotations
 
 import inspect
-from typing import Any
+from typing import Any, ClassVar
 
 from ..core.rng import stream
 from ..params.paramsfile import PluginSection, ServerParams
+from .runtime import Runtime, Stage
 
 
 def make_plugin(section: PluginSection, *, seed: int | None = None, server: str = "") -> Any:
@@ -39,3 +41,22 @@ def pick(plugins: dict[str, Any], wanted: str) -> Any | None:
     if not wanted:
         return next(iter(plugins.values())) if len(plugins) == 1 else None
     return plugins.get(wanted)
+
+
+class PluginServer:
+    """A Nav2 server owning the plugins of one kind (`kind`) on a costmap, and answering
+    its actions on the step after a goal comes (no sim time passes during a call).
+    The server holds its action servers and registers them with the runtime."""
+
+    stage = Stage.SERVER
+    kind: ClassVar[str]
+
+    def __init__(
+        self, runtime: Runtime, params: ServerParams, costmap: Any, *, seed: int | None = None
+    ) -> None:
+        self.seed = runtime.seed if seed is None else seed
+        self.runtime = runtime
+        self.params = params
+        self.costmap = costmap
+        self.plugins: dict[str, Any] = make_plugins(params, self.kind, seed=self.seed)
+        self.rate = 1.0 / runtime.physics_dt

@@ -10,8 +10,6 @@ pass during a call), so `max_smoothing_duration` never expires here.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from ..core.error_codes import NavResult, SmoothPathError
@@ -22,14 +20,14 @@ from ..planning.exceptions import SmootherException
 from ..planning.smoother import Smoothed
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
-from .runtime import Runtime, Stage
-from .server_plugins import make_plugins, pick
+from .runtime import Runtime
+from .server_plugins import PluginServer, pick
 
 
-class SmootherServer:
+class SmootherServer(PluginServer):
     """smoother_server: owns the smoother plugins and the `smooth_path` action."""
 
-    stage = Stage.SERVER
+    kind = "smoother"
 
     def __init__(
         self,
@@ -39,12 +37,7 @@ class SmootherServer:
         *,
         seed: int | None = None,
     ) -> None:
-        self.seed = runtime.seed if seed is None else seed
-        self.runtime = runtime
-        self.params = params
-        self.costmap = costmap
-        self.smoothers: dict[str, Any] = make_plugins(params, "smoother", seed=self.seed)
-        self.rate = 1.0 / runtime.physics_dt
+        super().__init__(runtime, params, costmap, seed=seed)
         self.action: ActionServer[SmoothPathGoal] = ActionServer(
             "SmoothPath", "smooth_path", on_start=self._smooth
         )
@@ -55,11 +48,11 @@ class SmootherServer:
 
     def smooth(self, goal: SmoothPathGoal) -> NavResult:
         """Smooth now and return the action's result (what the action does)."""
-        smoother = pick(self.smoothers, goal.smoother_id)
+        smoother = pick(self.plugins, goal.smoother_id)
         if smoother is None:
             return NavResult.failure(
                 SmoothPathError.INVALID_SMOOTHER,
-                f"smoother id '{goal.smoother_id}' is not one of: {', '.join(self.smoothers)}",
+                f"smoother id '{goal.smoother_id}' is not one of: {', '.join(self.plugins)}",
             )
         if goal.path is None or len(goal.path) == 0:
             return NavResult.failure(SmoothPathError.INVALID_PATH, "the path is empty")
@@ -85,6 +78,6 @@ class SmootherServer:
     def set_parameters(self, params: ServerParams) -> None:
         self.params = params
         for name, section in params.plugins.items():
-            smoother = self.smoothers.get(name)
+            smoother = self.plugins.get(name)
             if smoother is not None and section.params is not None:
                 smoother.params = section.params
