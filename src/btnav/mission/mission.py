@@ -249,7 +249,7 @@ def _amcl_sets_pose(mission: Mission) -> bool:
 
 
 def _map_problem(grid: OccupancyGrid, map_file: Path, x: float, y: float) -> str | None:
-    """Why AMCL cannot start at (x, y) on the map: off it, or in an occupied cell."""
+    """What is wrong with (x, y) on the map, for a message: off it, or in an occupied cell."""
     row, col = grid.world_to_cell([(x, y)])[0]
     if not grid.in_bounds(np.array([row, col])):
         (x0, y0), (x1, y1) = _map_extent(grid)
@@ -318,20 +318,12 @@ def task_pose_warnings(
         if kind == "navigate_to_pose"
         else [("task", kind, i) for i in range(len(poses))]
     )
-    cells = grid.world_to_cell([(x, y) for x, y, _ in poses])
-    inside = grid.in_bounds(cells)
     found = []
-    for n, (pose, key) in enumerate(zip(poses, keys, strict=True)):
-        shown = "[" + ", ".join(f"{v:g}" for v in pose) + "]"
-        if not inside[n]:
-            (x0, y0), (x1, y1) = _map_extent(grid)
-            problem = (
-                f"is outside the map ({map_file} covers x {x0:g} to {x1:g}, y {y0:g} to {y1:g})"
-            )
-        elif grid.data[cells[n, 0], cells[n, 1]] >= OCCUPIED:
-            problem = f"is inside an obstacle of the map ({map_file})"
-        else:
+    for pose, key in zip(poses, keys, strict=True):
+        problem = _map_problem(grid, map_file, pose[0], pose[1])
+        if problem is None:
             continue
+        shown = "[" + ", ".join(f"{v:g}" for v in pose) + "]"
         found.append(
             BtnavWarning(f"task pose {shown} {problem}; Nav2 will try it and fail", **where(*key))
         )

@@ -41,6 +41,7 @@ from ..nav.actions import GoalHandle
 from ..nav.runtime import Runtime
 from ..nav.stack import NavStack
 from ..params.loader import load_params
+from ..params.map_io import MapSaverParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..sim.world import World
 from .bt_navigator import BtNavigator
@@ -245,16 +246,14 @@ class BasicNavigator:
         grid = self.stack.map_server.map
         if grid is None:
             raise RuntimeError("no map to save: map_server has none (and no SLAM runs)")
-        free, occupied = 0.25, 0.65  # map_saver's own defaults
-        if "map_saver" in self.stack.params:
-            saver = self.stack.params.server("map_saver").model
-            free, occupied = saver.free_thresh_default, saver.occupied_thresh_default
+        params = self.stack.params
+        saver = params.server("map_saver").model if "map_saver" in params else MapSaverParams()
         return save_map(
             grid,
             path,
             mode=mode,
-            free_thresh=free,
-            occupied_thresh=occupied,
+            free_thresh=saver.free_thresh_default,
+            occupied_thresh=saver.occupied_thresh_default,
             image_format=image_format,
         )
 

@@ -64,7 +64,6 @@ class OscillationCritic(TrajectoryCritic):
     def reset(self) -> None:
         self.x, self.y, self.theta = _Trend(), _Trend(), _Trend()
         self.prev_stationary = None
-        self.prev_linear = 0.0
         self.cycles_since_flag = 0
 
     def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
@@ -77,7 +76,6 @@ class OscillationCritic(TrajectoryCritic):
         if p.x_only_threshold < 0.0 or abs(cmd.linear_x) <= p.x_only_threshold:
             flagged |= self.y.update(cmd.linear_y)
             flagged |= self.theta.update(cmd.angular_z)
-        self.prev_linear = cmd.linear_x
         if flagged:
             self.prev_stationary = pose
             self.cycles_since_flag = 0
