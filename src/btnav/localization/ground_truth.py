@@ -1,44 +1,15 @@
-"""The localiser contract and `ground_truth`, the perfect localiser, for tests.
-
-Localisers publish `map -> odom`.
-
-A localiser plugin (`@register("localizer", name)`) is built as `cls(context, params)`
-and scheduled at its `rate` in the runtime's LOCALIZATION stage, before costmaps and
-servers. `context` is anything shaped like `LocalizerContext` (the `Runtime` is), so
-a localiser in `localization/` need not import the runtime. `params` is None for the
-defaults, a mapping validated by the plugin's `Params`, or a `Params` instance.
-"""
+"""`ground_truth`, the perfect localiser, for tests (the contract: `localizer.py`)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any, Protocol
+from typing import Any
 
 from pydantic import Field
 
-from ..core.clock import SimClock
-from ..core.frames import FrameTree
-from ..core.messages import LaserScan, Odometry, PoseWithCovariance
+from ..core.messages import Odometry, PoseWithCovariance
 from ..core.validation import StrictModel
 from ..plugins import register
-from ..sim.world import World
-
-
-class LocalizerContext(Protocol):
-    """What a localiser may use: the frame tree, the clock and the latest sensor data.
-
-    Only `ground_truth` may read `world.robot_pose`; a real localiser knows the world
-    only through scans, odometry and the map.
-    """
-
-    world: World
-    frames: FrameTree
-    clock: SimClock
-    seed: int
-    latest_odom: Odometry
-    latest_scan: LaserScan | None
-
-    def subscribe(self, topic: str, callback: Any) -> None: ...
+from .localizer import LocalizerContext, localizer_params
 
 
 class GroundTruthParams(StrictModel):
@@ -46,16 +17,6 @@ class GroundTruthParams(StrictModel):
     global_frame_id: str = "map"
     odom_frame_id: str = "odom"
     base_frame_id: str = "base_footprint"
-
-
-def _params(cls: type[StrictModel], params: Any) -> Any:
-    if params is None:
-        return cls()
-    if isinstance(params, cls):
-        return params
-    if isinstance(params, Mapping):
-        return cls(**params)
-    raise TypeError(f"params for a localiser are a mapping or {cls.__name__}, got {params!r}")
 
 
 @register("localizer", "ground_truth")
@@ -72,7 +33,7 @@ class GroundTruthLocalizer:
     Params = GroundTruthParams
 
     def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        self.params = _params(self.Params, params)
+        self.params = localizer_params(self.Params, params)
         self.context = context
         self.rate = self.params.rate
         frames = context.frames

@@ -39,7 +39,7 @@ from ...core.rng import stream
 from ...maps.occupancy_grid import OccupancyGrid
 from ...params.localization import AmclParams
 from ...plugins import register
-from ..ground_truth import LocalizerContext, _params
+from ..localizer import LocalizerContext, localizer_params
 from .laser_models import LASER_MODELS, LaserData, LaserModel
 from .likelihood_field import MapField
 from .motion_models import MotionModel, make_motion_model
@@ -72,7 +72,7 @@ class Amcl:
     Params = AmclParams
 
     def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        p = self.params = _params(self.Params, params)
+        p = self.params = localizer_params(self.Params, params)
         self.context = context
         frames = context.frames
         for key in ("global_frame_id", "odom_frame_id", "base_frame_id"):
