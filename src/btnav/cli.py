@@ -39,6 +39,14 @@ def _world_show(args: argparse.Namespace) -> int:
     return show_world_main(args.world, args.output)
 
 
+def _slam(args: argparse.Namespace) -> int:
+    from .slam.slam_cli import slam_main
+
+    return slam_main(
+        args.log, args.params, args.output, scan_topic=args.scan_topic, odom_topic=args.odom_topic
+    )
+
+
 def _tree_import(args: argparse.Namespace) -> int:
     from .bt.tree_cli import tree_import_main
 
@@ -190,6 +198,14 @@ def build_parser() -> argparse.ArgumentParser:
     fw.add_argument("-o", "--output", required=True, help="the map .yaml to write (and its .pgm)")
     fw.add_argument("--resolution", type=float, default=0.05, help="metres per cell (0.05)")
     fw.set_defaults(func=_map_from_world)
+
+    slam = sub.add_parser("slam", help="SLAM on a recorded log (CARMEN, ROS 1 or ROS 2 bag)")
+    slam.add_argument("log", help="a .clf/.log CARMEN file, a .bag, or a rosbag2 folder/.db3/.mcap")
+    slam.add_argument("--params", help="a params file with a slam_toolbox: section (defaults)")
+    slam.add_argument("-o", "--output", required=True, help="the folder to write")
+    slam.add_argument("--scan-topic", help="the LaserScan topic of a bag (when several)")
+    slam.add_argument("--odom-topic", help="the Odometry topic of a bag (when several)")
+    slam.set_defaults(func=_slam)
 
     tree = sub.add_parser("tree", help="behaviour trees (Nav2 XML or btnav YAML)")
     tree_sub = tree.add_subparsers(dest="tree_command", required=True, parser_class=_Parser)

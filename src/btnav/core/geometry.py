@@ -158,3 +158,14 @@ def compose_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np
     out[..., 1] = a[..., 1] + s * b[..., 0] + c * b[..., 1]
     out[..., 2] = normalize_angle(a[..., 2] + b[..., 2])
     return out
+
+
+def relative_arrays(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each b[i] in a[i]'s frame, `a[i]^-1 @ b[i]`, for rows of (x, y, yaw)."""
+    a = np.asarray(a, dtype=float)
+    s, c = fmath.sincos(a[..., 2])
+    inv = np.empty(a.shape)
+    inv[..., 0] = -(c * a[..., 0] + s * a[..., 1])
+    inv[..., 1] = s * a[..., 0] - c * a[..., 1]
+    inv[..., 2] = -a[..., 2]
+    return compose_arrays(inv, b)

@@ -218,13 +218,13 @@ class Runtime:
         """A client for the server `name` (a BT node's `server_name`)."""
         return self.action_servers.client(name)
 
-    def use_localizer(self, name: str, params: Any = None) -> Any:
-        """Create the `localizer` plugin `name` (e.g. "ground_truth") and schedule it.
+    def use_localizer(self, name: str, params: Any = None, *, kind: str = "localizer") -> Any:
+        """Create the `localizer` (or `slam`) plugin `name` (e.g. "ground_truth") and schedule it.
 
         Localiser plugins are built as `cls(runtime, params)`; `params` may be None
         (defaults), a mapping (validated by the plugin's `Params`) or a `Params` model.
         """
-        cls = lookup("localizer", name)
+        cls = lookup(kind, name)
         if self.localizer is not None:
             self.remove(self.localizer)
         self.localizer = cls(self, params)

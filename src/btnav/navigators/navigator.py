@@ -90,15 +90,19 @@ class BasicNavigator:
         w = world if isinstance(world, World) else World.from_file(world, seed=seed)
         rt = Runtime(w, seed=seed)
         pf = params if isinstance(params, ParamsFile) else load_params(params)
-        if localization == "amcl" and "amcl" in pf:
-            rt.use_localizer(localization, pf.server("amcl").model)
-        else:
-            rt.use_localizer(localization)
+        section = {"amcl": "amcl", "slam": "slam_toolbox"}.get(localization)
+        model = pf.server(section).model if section is not None and section in pf else None
+        rt.use_localizer(
+            localization, model, kind="slam" if localization == "slam" else "localizer"
+        )
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)
         set_map = getattr(rt.localizer, "set_map", None)
         if set_map is not None:  # AMCL takes map_server's map, as Nav2's `map` topic
             stack.map_server.subscribe(set_map)
+        subscribe_map = getattr(rt.localizer, "subscribe_map", None)
+        if subscribe_map is not None:  # SLAM's map goes where map_server's would
+            subscribe_map(stack.map_server.load_map)
         bt = BtNavigator(rt, stack, pf, base_dir=FilePath.cwd())
         wf = rt.add(WaypointFollower(rt, pf))
         stack.servers["bt_navigator"] = bt

@@ -1,0 +1,1 @@
+"""SLAM: scan matching, the pose graph, occupancy mapping and laser odometry (slam_toolbox / Karto)."""

@@ -1,0 +1,331 @@
+"""ROS 1 bags and ROS 2 bags (sqlite3 or MCAP storage), without ROS.
+
+Read with the pure-Python `rosbags` library (the optional extra `btnav[logs]`). The
+scans are the `sensor_msgs/msg/LaserScan` messages of one topic; the odometry is the
+`nav_msgs/msg/Odometry` messages of one topic or, when the bag has none, the
+`odom -> base_footprint` (or `base_link`) transform on `/tf`, as slam_toolbox takes
+it. Each message is placed at its header stamp, not at the time it was recorded.
+
+The topic is chosen for the user when the bag has exactly one of the kind; otherwise
+the error lists the candidates and names `--scan-topic` / `--odom-topic`
+(`--odom-topic /tf` asks for the transform even when an Odometry topic exists).
+
+The laser's offset on the robot comes from the transforms (`/tf_static`, then `/tf`)
+from the odometry's child frame to the scans' frame; without such a chain the laser
+is taken at the robot's origin and a `BtnavWarning` says so.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from btnav.core import fmath
+from btnav.core.errors import BtnavWarning
+from btnav.core.geometry import Pose2D
+from btnav.core.messages import LaserScan
+from btnav.core.suggest import best_match
+
+from .recorded_log import LogError, Progress, RecordedLog, rep117_ranges, time_span
+
+SCAN_TYPE = "sensor_msgs/msg/LaserScan"
+ODOM_TYPE = "nav_msgs/msg/Odometry"
+TF_TYPE = "tf2_msgs/msg/TFMessage"
+TF_TOPIC, TF_STATIC_TOPIC = "/tf", "/tf_static"
+#: Children of `odom` that are the robot's base, best first (REP-105).
+BASE_FRAMES = ("base_footprint", "base_link")
+_PROGRESS_EVERY = 1000
+
+
+def _stamp(header: Any) -> float:
+    return float(header.stamp.sec) + float(header.stamp.nanosec) * 1e-9
+
+
+def _frame(name: str) -> str:
+    """ROS 1 frame ids may start with '/'; tf2 dropped it."""
+    return name.lstrip("/")
+
+
+def _yaw(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Yaw of (M, 4) quaternions x, y, z, w (the rotation about z of a planar robot)."""
+    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    return fmath.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def _bag_target(path: Path) -> Path:
+    """What `rosbags` opens: a ROS 1 .bag, a rosbag2 folder, or a bare .db3/.mcap
+    (its folder when the folder has the bag's metadata.yaml)."""
+    if path.is_dir() and not (path / "metadata.yaml").exists():
+        files = sorted(path.glob("*.mcap")) + sorted(path.glob("*.db3"))
+        if len(files) != 1:
+            raise LogError(
+                "not a rosbag2 folder: no metadata.yaml"
+                + (f" and {len(files)} storage files" if files else " and no .db3 or .mcap file"),
+                file=path,
+            )
+        return files[0]
+    if path.suffix in (".db3", ".mcap") and (path.parent / "metadata.yaml").exists():
+        return path.parent
+    if path.is_file() and path.suffix != ".bag":
+        with path.open("rb") as fh:
+            if fh.read(7) == b"#ROSBAG":
+                raise LogError("a ROS 1 bag: rename it to end in .bag to read it", file=path)
+    return path
+
+
+def _open(path: Path) -> Any:
+    try:
+        from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
+    except ImportError:
+        raise LogError(
+            "reading ROS bags needs the 'rosbags' package: pip install 'btnav[logs]'", file=path
+        ) from None
+    target = _bag_target(path)
+    try:
+        reader = AnyReader([target], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+        reader.open()
+    except Exception as exc:  # rosbags raises many kinds for a damaged or foreign file
+        raise LogError(f"cannot read this bag: {exc}", file=path) from None
+    return reader
+
+
+def _topics(reader: Any) -> dict[str, str]:
+    """Topic -> message type."""
+    return {c.topic: c.msgtype for c in reader.connections}
+
+
+def _choose(
+    path: Path, topics: dict[str, str], wanted: str | None, msgtype: str, flag: str, what: str
+) -> str | None:
+    """The topic to read: the one named, or the only one of `msgtype` (None if there is none)."""
+    of_type = sorted(t for t, m in topics.items() if m == msgtype)
+    if wanted is not None:
+        if wanted not in topics:
+            listed = ", ".join(of_type) or "none"
+            raise LogError(
+                f"{flag} {wanted}: no such topic in the bag ({what} topics: {listed})",
+                file=path,
+                suggestion=best_match(wanted, of_type or list(topics)),
+            )
+        if topics[wanted] != msgtype:
+            raise LogError(
+                f"{flag} {wanted}: the topic carries {topics[wanted]}, not {msgtype}", file=path
+            )
+        return wanted
+    if len(of_type) > 1:
+        raise LogError(
+            f"{len(of_type)} {what} topics in the bag: {', '.join(of_type)}; "
+            f"choose one with {flag}",
+            file=path,
+        )
+    return of_type[0] if of_type else None
+
+
+def _messages(reader: Any, path: Path, topics: list[str]) -> Iterator[tuple[str, Any]]:
+    """(topic, message) of the given topics in bag order; a damaged message is a LogError
+    naming its topic and its number on that topic."""
+    conns = [c for c in reader.connections if c.topic in topics]
+    counts = dict.fromkeys(topics, 0)
+    it = reader.messages(connections=conns)
+    while True:
+        topic = "?"
+        try:
+            conn, _t, raw = next(it)
+            topic = conn.topic
+            msg = reader.deserialize(raw, conn.msgtype)
+        except StopIteration:
+            return
+        except Exception as exc:
+            where = (
+                f"message {counts.get(topic, 0) + 1} on {topic}" if topic != "?" else "a message"
+            )
+            raise LogError(f"cannot read {where}: {exc}", file=path) from None
+        counts[topic] += 1
+        yield topic, msg
+
+
+def _scan(msg: Any) -> LaserScan:
+    r_min, r_max = float(msg.range_min), float(msg.range_max)
+    return LaserScan(
+        stamp=_stamp(msg.header),
+        frame_id=_frame(msg.header.frame_id),
+        angle_min=float(msg.angle_min),
+        angle_max=float(msg.angle_max),
+        angle_increment=float(msg.angle_increment),
+        range_min=r_min,
+        range_max=r_max,
+        ranges=rep117_ranges(msg.ranges, r_min, r_max),
+        scan_time=float(msg.scan_time),
+        time_increment=float(msg.time_increment),
+        intensities=np.array(msg.intensities, dtype=np.float32),
+    )
+
+
+class _Transforms:
+    """What /tf and /tf_static said: the odom -> base stream and the fixed mounts."""
+
+    def __init__(self) -> None:
+        self.odom: dict[
+            tuple[str, str], list[tuple[float, float, float, float, float, float, float]]
+        ] = {}
+        self.fixed: dict[str, tuple[str, Pose2D]] = {}  # child -> (parent, pose in parent)
+
+    def add(self, msg: Any, *, static: bool) -> None:
+        for tf in msg.transforms:
+            parent, child = _frame(tf.header.frame_id), _frame(tf.child_frame_id)
+            t, q = tf.transform.translation, tf.transform.rotation
+            if parent.endswith("odom") and child.endswith(BASE_FRAMES):
+                rows = self.odom.setdefault((parent, child), [])
+                rows.append((_stamp(tf.header), t.x, t.y, q.x, q.y, q.z, q.w))
+            elif static or child not in self.fixed:
+                yaw = float(_yaw(np.array([[q.x, q.y, q.z, q.w]]))[0])
+                self.fixed[child] = (parent, Pose2D(float(t.x), float(t.y), yaw))
+
+    def odometry(self) -> tuple[str, NDArray[np.float64], NDArray[np.float64]] | None:
+        """(source, stamps, poses) of the odom -> base transform, base_footprint first."""
+        for base in BASE_FRAMES:
+            for (parent, child), rows in sorted(self.odom.items()):
+                if child.endswith(base):
+                    a = np.array(rows, dtype=np.float64)
+                    poses = np.stack([a[:, 1], a[:, 2], _yaw(a[:, 3:7])], axis=1)
+                    return f"{TF_TOPIC} {parent} -> {child}", a[:, 0], poses
+        return None
+
+    def mount(self, base: str, frame: str) -> Pose2D | None:
+        """`frame`'s pose in `base` from the fixed transforms, or None without a chain."""
+        pose, here, seen = Pose2D(), frame, set()
+        while here != base:
+            if here in seen or here not in self.fixed:
+                return None
+            seen.add(here)
+            parent, in_parent = self.fixed[here]
+            pose, here = in_parent @ pose, parent
+        return pose
+
+
+def read_rosbag(
+    path: str | Path,
+    *,
+    scan_topic: str | None = None,
+    odom_topic: str | None = None,
+    progress: Progress | None = None,
+) -> RecordedLog:
+    """Read the scans and the odometry of a ROS 1 or ROS 2 bag."""
+    p = Path(path)
+    reader = _open(p)
+    try:
+        return _read(reader, p, scan_topic, odom_topic, progress)
+    finally:
+        reader.close()
+
+
+def _read(
+    reader: Any, p: Path, scan_topic: str | None, odom_topic: str | None, progress: Progress | None
+) -> RecordedLog:
+    topics = _topics(reader)
+    use_tf = odom_topic == TF_TOPIC
+    scan = _choose(p, topics, scan_topic, SCAN_TYPE, "--scan-topic", "LaserScan")
+    if scan is None:
+        listed = ", ".join(f"{t} ({m})" for t, m in sorted(topics.items())) or "none"
+        raise LogError(f"no {SCAN_TYPE} topic in the bag (topics: {listed})", file=p)
+    odom = None if use_tf else _choose(p, topics, odom_topic, ODOM_TYPE, "--odom-topic", "Odometry")
+    if use_tf and topics.get(TF_TOPIC) != TF_TYPE:
+        raise LogError(
+            f"--odom-topic {TF_TOPIC}: the bag has no {TF_TYPE} topic {TF_TOPIC}", file=p
+        )
+    read_tf = (use_tf or odom is None) and topics.get(TF_TOPIC) == TF_TYPE
+    wanted = [scan] + ([odom] if odom else []) + ([TF_TOPIC] if read_tf else [])
+    if topics.get(TF_STATIC_TOPIC) == TF_TYPE:
+        wanted.append(TF_STATIC_TOPIC)
+    total = sum(c.msgcount for c in reader.connections if c.topic in wanted)
+    scans: list[LaserScan] = []
+    odom_rows: list[tuple[float, float, float, float, float, float, float]] = []
+    base_frame = ""
+    tfs = _Transforms()
+    for done, (topic, msg) in enumerate(_messages(reader, p, wanted), 1):
+        if topic == scan:
+            scans.append(_scan(msg))
+        elif topic == odom:
+            pp = msg.pose.pose
+            q = pp.orientation
+            odom_rows.append((_stamp(msg.header), pp.position.x, pp.position.y, q.x, q.y, q.z, q.w))
+            base_frame = base_frame or _frame(msg.child_frame_id)
+        else:
+            tfs.add(msg, static=topic == TF_STATIC_TOPIC)
+        if progress and done % _PROGRESS_EVERY == 0:
+            progress(done, total)
+    if not scans:
+        raise LogError(f"no scans: the topic {scan} has no messages", file=p)
+    if odom is not None:
+        a = np.array(odom_rows, dtype=np.float64).reshape(-1, 7)
+        odom_stamps = a[:, 0]
+        odom_poses = np.stack([a[:, 1], a[:, 2], _yaw(a[:, 3:7])], axis=1)
+        odom_source = f"{odom} ({ODOM_TYPE})"
+    elif (found := tfs.odometry()) is not None:
+        odom_source, odom_stamps, odom_poses = found
+        base_frame = odom_source.rsplit(" ", 1)[-1]
+    elif use_tf:
+        raise LogError(
+            f"--odom-topic {TF_TOPIC}: no odom -> {' or '.join(BASE_FRAMES)} transform on {TF_TOPIC}",
+            file=p,
+        )
+    else:
+        odom_stamps, odom_poses, odom_source = np.zeros(0), np.zeros((0, 3)), ""
+    laser_offset = _laser_offset(reader, p, topics, tfs, base_frame, scans[0].frame_id, read_tf)
+    if progress:
+        progress(total, total)
+    return RecordedLog(
+        path=p,
+        scans=scans,
+        odom_stamps=odom_stamps,
+        odom_poses=odom_poses,
+        laser_offset=laser_offset,
+        duration=time_span(np.array([s.stamp for s in scans]), odom_stamps),
+        scan_source=scan,
+        odom_source=odom_source,
+    )
+
+
+def _laser_offset(
+    reader: Any,
+    p: Path,
+    topics: dict[str, str],
+    tfs: _Transforms,
+    base: str,
+    laser: str,
+    tf_read: bool,
+) -> NDArray[np.float64]:
+    """The scan frame's pose in the base frame; /tf is read (until the chain is found)
+    only when /tf_static does not give it."""
+    bases = [base] if base else list(BASE_FRAMES)
+    if not laser or laser in bases:
+        return np.zeros(3)
+
+    def lookup() -> Pose2D | None:
+        return next((m for b in bases if (m := tfs.mount(b, laser)) is not None), None)
+
+    mount = lookup()
+    if mount is None and not tf_read and topics.get(TF_TOPIC) == TF_TYPE:
+        for _topic, msg in _messages(reader, p, [TF_TOPIC]):
+            tfs.add(msg, static=False)
+            if (mount := lookup()) is not None:
+                break
+    if mount is None and not base:
+        return np.zeros(3)  # no odometry, no base frame: nothing to warn about
+    if mount is None:
+        warnings.warn(
+            BtnavWarning(
+                f"no transform from {base} to the scans' frame {laser} on {TF_STATIC_TOPIC} "
+                f"or {TF_TOPIC}; the laser is taken at the robot's origin",
+                file=p,
+            ),
+            stacklevel=4,
+        )
+        return np.zeros(3)
+    return mount.as_array()

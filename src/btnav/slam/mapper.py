@@ -1,0 +1,356 @@
+"""Karto's Mapper as slam_toolbox runs it: match, link, close loops, optimise.
+
+Each processed scan becomes a node of the pose graph. Its pose is first predicted
+from the last node's correction and the odometry, then corrected by the sequential
+matcher against the running buffer (the last `scan_buffer_size` scans within
+`scan_buffer_maximum_scan_distance`). It is linked to the previous node, to the
+closest scan of the running buffer and to every near chain of older scans that it
+matches well (`link_match_minimum_response_fine`); its pose becomes the
+covariance-weighted mean of those matches. Then loop closure: chains of at least
+`loop_match_minimum_chain_size` scans within `loop_search_maximum_distance` that are
+not reachable through the graph by a path of near scans are matched coarsely (the
+loop matcher, `loop_search_space_*`) and finely (the sequential matcher); a match
+above `loop_match_minimum_response_fine` adds an edge and the graph is optimised.
+
+Distances between scans are measured between barycenters of their points
+(`use_scan_barycenter`), as Karto's reference poses. A Python loop here runs over
+graph nodes near the robot or over chains, never over points or cells.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..core import fmath
+from ..core.geometry import compose_arrays, normalize_angle
+from ..params.localization import SlamToolboxParams
+from .pose_graph import PoseGraph
+from .scan_matcher import MatcherParams, MatchResult, ScanMatcher
+
+F64 = NDArray[np.float64]
+
+
+def relative(a: F64, b: F64) -> F64:
+    """Pose b in a's frame (a^-1 (+) b)."""
+    s, c = fmath.sincos(float(a[2]))
+    dx, dy = float(b[0] - a[0]), float(b[1] - a[1])
+    return np.array([c * dx + s * dy, -s * dx + c * dy, normalize_angle(float(b[2] - a[2]))])
+
+
+def compose(a: F64, b: F64) -> F64:
+    return compose_arrays(np.asarray(a, float), np.asarray(b, float)[None, :])[0]
+
+
+def rotate_covariance(cov: F64, yaw: float) -> F64:
+    """A map-frame covariance in the frame of a node with heading `yaw` (Karto's LinkInfo)."""
+    s, c = fmath.sincos(yaw)
+    r = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    return fmath.matmul_k(fmath.matmul_k(r, cov), r.T)
+
+
+def weighted_mean(means: list[F64], covariances: list[F64]) -> F64:
+    """Karto's ComputeWeightedMean: positions by inverse covariance, heading by mean direction."""
+    inverses = [_inv3(c) for c in covariances]
+    total = _inv3(sum(inverses[1:], inverses[0]))
+    xy = np.zeros(3)
+    for m, inv in zip(means, inverses, strict=True):
+        xy = xy + fmath.matmul_k(fmath.matmul_k(total, inv), np.asarray(m, float)[:, None])[:, 0]
+    s = sum(fmath.sin(float(m[2])) for m in means) / len(means)
+    c = sum(fmath.cos(float(m[2])) for m in means) / len(means)
+    return np.array([xy[0], xy[1], fmath.arctan2(s, c)])
+
+
+def _inv3(m: F64) -> F64:
+    """Inverse of a 3 x 3 matrix by cofactors (no LAPACK: the same bits on every CPU)."""
+    a = np.asarray(m, float)
+    cof = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            r = [k for k in range(3) if k != i]
+            q = [k for k in range(3) if k != j]
+            minor = a[r[0], q[0]] * a[r[1], q[1]] - a[r[0], q[1]] * a[r[1], q[0]]
+            cof[i, j] = minor if (i + j) % 2 == 0 else -minor
+    det = a[0, 0] * cof[0, 0] + a[0, 1] * cof[0, 1] + a[0, 2] * cof[0, 2]
+    if det == 0.0:
+        raise np.linalg.LinAlgError("singular covariance")
+    return cof.T / det
+
+
+@dataclass
+class Scan:
+    """One processed scan: what Karto's LocalizedRangeScan keeps."""
+
+    stamp: float
+    odom_pose: F64  # (3,) robot in the odom frame
+    points: F64  # (N, 2) valid end points in the robot frame
+    ranges: NDArray[np.float32]  # every reading, for the occupancy grid
+    angles: F64  # beam angles in the sensor frame
+    centroid: F64 = field(default_factory=lambda: np.zeros(2))  # mean point, robot frame
+
+
+def matcher_params(p: SlamToolboxParams, loop: bool) -> MatcherParams:
+    common = dict(
+        range_threshold=p.max_laser_range,
+        distance_variance_penalty=p.distance_variance_penalty,
+        angle_variance_penalty=p.angle_variance_penalty,
+        fine_search_angle_offset=p.fine_search_angle_offset,
+        coarse_search_angle_offset=p.coarse_search_angle_offset,
+        coarse_angle_resolution=p.coarse_angle_resolution,
+        minimum_angle_penalty=p.minimum_angle_penalty,
+        minimum_distance_penalty=p.minimum_distance_penalty,
+        use_response_expansion=p.use_response_expansion,
+    )
+    if loop:
+        return MatcherParams(
+            search_space_dimension=p.loop_search_space_dimension,
+            search_space_resolution=p.loop_search_space_resolution,
+            smear_deviation=p.loop_search_space_smear_deviation,
+            **common,
+        )
+    return MatcherParams(
+        search_space_dimension=p.correlation_search_space_dimension,
+        search_space_resolution=p.correlation_search_space_resolution,
+        smear_deviation=p.correlation_search_space_smear_deviation,
+        **common,
+    )
+
+
+class Mapper:
+    """The graph of processed scans (see the module doc). `start_pose`: the first scan's
+    robot pose in the map frame is `start_pose (+) odom_pose` (slam_toolbox's map_start_pose)."""
+
+    def __init__(self, params: SlamToolboxParams, start_pose: ArrayLike = (0.0, 0.0, 0.0)):
+        self.params = params
+        self.start = np.asarray(start_pose, float)
+        self.graph = PoseGraph()
+        self.scans: list[Scan] = []
+        self.running: list[int] = []
+        self.sequential = ScanMatcher(matcher_params(params, loop=False))
+        self.loop = ScanMatcher(matcher_params(params, loop=True))
+        self.loop_closures = 0
+        #: Bumped whenever existing poses move (an optimisation): the map must be rebuilt.
+        self.revision = 0
+
+    # -- views -------------------------------------------------------------------------------
+
+    @property
+    def poses(self) -> F64:
+        """(K, 3) corrected robot poses of the processed scans in the map frame."""
+        return self.graph.poses
+
+    def world_points(self, i: int, pose: F64 | None = None) -> F64:
+        p = self.graph.poses[i] if pose is None else pose
+        return compose_arrays(
+            p, np.column_stack([self.scans[i].points, np.zeros(len(self.scans[i].points))])
+        )[:, :2]
+
+    def barycenters(self) -> F64:
+        """(K, 2) every scan's barycenter in the map frame (Karto's reference positions)."""
+        if not self.scans:
+            return np.zeros((0, 2))
+        c = np.array([s.centroid for s in self.scans])
+        return compose_arrays(self.graph.poses, np.column_stack([c, np.zeros(len(c))]))[:, :2]
+
+    def _barycenter(self, pose: F64, scan: Scan) -> F64:
+        return compose(pose, np.array([scan.centroid[0], scan.centroid[1], 0.0]))[:2]
+
+    def _reference(self, ids: list[int]) -> list[tuple[F64, F64]]:
+        return [(self.world_points(i), self.graph.poses[i]) for i in ids]
+
+    # -- processing --------------------------------------------------------------------------
+
+    def predict(self, odom_pose: ArrayLike) -> F64:
+        """The map pose of the robot at `odom_pose` by the last correction (Karto's Transform)."""
+        odom = np.asarray(odom_pose, float)
+        if not self.scans:
+            return compose(self.start, odom)
+        last = len(self.scans) - 1
+        return compose(self.graph.poses[last], relative(self.scans[last].odom_pose, odom))
+
+    def has_moved_enough(self, stamp: float, odom_pose: ArrayLike) -> bool:
+        """Karto's HasMovedEnough on odometric poses (time, then heading, then distance)."""
+        if not self.scans:
+            return True
+        last = self.scans[-1]
+        p = self.params
+        if stamp - last.stamp >= p.minimum_time_interval:
+            return True
+        d = relative(last.odom_pose, np.asarray(odom_pose, float))
+        if abs(d[2]) >= p.minimum_travel_heading:
+            return True
+        return bool(d[0] ** 2 + d[1] ** 2 >= p.minimum_travel_distance**2 - 1e-9)
+
+    def process(
+        self,
+        stamp: float,
+        odom_pose: ArrayLike,
+        points: F64,
+        ranges: NDArray[np.float32],
+        angles: F64,
+    ) -> bool:
+        """Add one scan (points: valid end points in the robot frame); False if not moved enough."""
+        odom = np.asarray(odom_pose, float)
+        if not self.has_moved_enough(stamp, odom):
+            return False
+        p = self.params
+        pose = self.predict(odom)
+        scan = Scan(stamp, odom, np.asarray(points, float), ranges, angles)
+        if len(scan.points):
+            scan.centroid = scan.points.mean(axis=0)
+        covariance = np.eye(3)
+        first = not self.scans
+        if p.use_scan_matching and not first and len(scan.points):
+            result = self.sequential.match(scan.points, pose, self._reference(self.running))
+            pose, covariance = result.pose, result.covariance
+        self.scans.append(scan)
+        node = self.graph.add_node(pose)
+        if p.use_scan_matching:
+            if not first:
+                self._add_edges(node, pose, covariance)
+            self._add_running(node)
+            if p.do_loop_closing and len(scan.points):
+                self._try_close_loop(node)
+        return True
+
+    def _add_running(self, node: int) -> None:
+        """Karto's AddRunningScan: cap the buffer by count and by span."""
+        self.running.append(node)
+        p = self.params
+        poses = self.graph.poses
+        while len(self.running) > 1:
+            d = poses[self.running[0], :2] - poses[self.running[-1], :2]
+            too_far = d[0] ** 2 + d[1] ** 2 > p.scan_buffer_maximum_scan_distance**2 - 1e-9
+            if len(self.running) <= p.scan_buffer_size and not too_far:
+                break
+            self.running.pop(0)
+
+    def _link(self, i: int, j: int, mean: F64, covariance: F64) -> None:
+        """An edge i -> j measured as `mean` (j's map pose) with the matcher's covariance."""
+        if j in self.graph.neighbours(i):
+            return  # Karto keeps the first link between two scans
+        frm = self.graph.poses[i]
+        self.graph.add_edge(i, j, relative(frm, mean), rotate_covariance(covariance, float(frm[2])))
+
+    def _link_chain(self, chain: list[int], node: int, mean: F64, covariance: F64) -> None:
+        """Karto's LinkChainToScan: link the chain's scan closest to the node, if close enough."""
+        bary = self.barycenters()
+        ref = self._barycenter(self.graph.poses[node], self.scans[node])
+        d2 = ((bary[chain] - ref) ** 2).sum(axis=1)
+        k = int(np.argmin(d2))
+        if d2[k] < self.params.link_scan_maximum_distance**2 + 1e-9:
+            self._link(chain[k], node, mean, covariance)
+
+    def _add_edges(self, node: int, pose: F64, covariance: F64) -> None:
+        self._link(node - 1, node, pose, covariance)
+        means, covs = [pose], [covariance]
+        self._link_chain(self.running, node, pose, covariance)
+        for chain in self._near_chains(node):
+            if len(chain) < self.params.loop_match_minimum_chain_size:
+                continue
+            m = self.sequential.match(
+                self.scans[node].points,
+                self.graph.poses[node],
+                self._reference(chain),
+                penalize=False,
+            )
+            if m.response > self.params.link_match_minimum_response_fine - 1e-9:
+                means.append(m.pose)
+                covs.append(m.covariance)
+                self._link_chain(chain, node, m.pose, m.covariance)
+        if len(means) > 1:
+            poses = self.graph.poses.copy()
+            poses[node] = weighted_mean(means, covs)
+            self.graph.set_poses(poses)
+
+    def _near_linked(self, node: int, max_distance: float) -> set[int]:
+        """Karto's FindNearLinkedScans: breadth-first through the graph over scans whose
+        barycenter lies within `max_distance` of the node's."""
+        bary = self.barycenters()
+        near = ((bary - bary[node]) ** 2).sum(axis=1) <= max_distance**2
+        seen = {node}
+        queue = deque([node])
+        while queue:
+            for j in self.graph.neighbours(queue.popleft()):
+                if j not in seen and near[j]:
+                    seen.add(j)
+                    queue.append(j)
+        return seen
+
+    def _near_chains(self, node: int) -> list[list[int]]:
+        """Karto's FindNearChains: runs of consecutive scans near the node around each
+        near-linked scan; a run that reaches the node itself is not a chain."""
+        dist = self.params.link_scan_maximum_distance
+        bary = self.barycenters()
+        near = ((bary - bary[node]) ** 2).sum(axis=1) < dist**2 + 1e-9
+        done: set[int] = set()
+        chains = []
+        for k in sorted(self._near_linked(node, dist) - {node}):
+            if k in done:
+                continue
+            lo, hi = k, k
+            while lo - 1 >= 0 and near[lo - 1]:
+                lo -= 1
+            while hi + 1 < len(self.scans) and near[hi + 1]:
+                hi += 1
+            # Karto's walk stops at the first far scan; one that passes over the node
+            # itself (always near) marks the chain invalid.
+            chain = list(range(lo, hi + 1))
+            done.update(chain)
+            if not lo <= node <= hi:
+                chains.append(chain)
+        return chains
+
+    def _next_loop_chain(self, node: int, start: int) -> tuple[list[int], int]:
+        """Karto's FindPossibleLoopClosure from scan `start`: the first run of consecutive scans
+        within `loop_search_maximum_distance`, cut after its last near-linked scan, that is at
+        least `loop_match_minimum_chain_size` long and followed by a far scan; and where the
+        next search starts. Runs are found with array operations, not a walk over scans."""
+        p = self.params
+        bary = self.barycenters()[start:]
+        ref = self._barycenter(self.graph.poses[node], self.scans[node])
+        near = ((bary - ref) ** 2).sum(axis=1) < p.loop_search_maximum_distance**2 + 1e-9
+        linked = np.zeros(len(near), bool)
+        ids = [i - start for i in self._near_linked(node, p.loop_search_maximum_distance)]
+        linked[[i for i in ids if i >= 0]] = True
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], near.astype(np.int8), [0]])))
+        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
+            cut = np.flatnonzero(linked[lo:hi])
+            chain = range(lo + cut[-1] + 1 if cut.size else lo, hi)
+            if hi < len(near) and len(chain) >= p.loop_match_minimum_chain_size:
+                return [start + i for i in chain], start + int(hi)
+        return [], len(self.scans)
+
+    def _try_close_loop(self, node: int) -> bool:
+        p = self.params
+        closed = False
+        points = self.scans[node].points
+        chain, start = self._next_loop_chain(node, 0)
+        while chain:
+            ref = self._reference(chain)
+            coarse = self.loop.match(
+                points, self.graph.poses[node], ref, penalize=False, refine=False
+            )
+            if (
+                coarse.response > p.loop_match_minimum_response_coarse
+                and coarse.covariance[0, 0] < p.loop_match_maximum_variance_coarse
+                and coarse.covariance[1, 1] < p.loop_match_maximum_variance_coarse
+            ):
+                fine = self.sequential.match(points, coarse.pose, ref, penalize=False)
+                if fine.response >= p.loop_match_minimum_response_fine:
+                    self._set_pose(node, fine)
+                    self._link_chain(chain, node, fine.pose, fine.covariance)
+                    self.graph.optimize()
+                    self.loop_closures += 1
+                    self.revision += 1
+                    closed = True
+            chain, start = self._next_loop_chain(node, start)
+        return closed
+
+    def _set_pose(self, node: int, match: MatchResult) -> None:
+        poses = self.graph.poses.copy()
+        poses[node] = match.pose
+        self.graph.set_poses(poses)

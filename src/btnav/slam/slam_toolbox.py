@@ -1,0 +1,126 @@
+"""`slam`: slam_toolbox's online asynchronous mapping, driven by Nav2's `slam_toolbox:` section.
+
+Every scan is offered to the mapper through slam_toolbox's gate (`ScanGate`), then
+Karto's own (`Mapper.has_moved_enough`). After each
+processed scan `map -> odom` is set so that `map -> base_footprint` is the scan's
+corrected pose. The map is published on `map_update_interval` (and after the first
+scan) to every `subscribe_map` callback, as slam_toolbox's latched `/map`; it is
+rebuilt from every scan at its optimised pose after a loop closure. The map frame is
+anchored where `map -> odom` was when SLAM started (the mission's initial pose) unless
+`map_start_pose` is given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ..core.geometry import Pose2D
+from ..core.messages import LaserScan, PoseWithCovariance
+from ..localization.localizer import LocalizerContext, localizer_params
+from ..maps.occupancy_grid import OccupancyGrid
+from ..params.localization import SlamToolboxParams
+from ..plugins import register
+from .mapper import Mapper
+from .occupancy_mapper import OccupancyMapper
+from .scan_gate import ScanGate
+from .scan_points import scan_points
+
+
+@register("slam", "slam", aliases=["slam_toolbox", "slam_toolbox::AsyncSlamToolbox"])
+class SlamToolbox:
+    """Maps while the robot drives and localises it on that map (see the module doc)."""
+
+    Params = SlamToolboxParams
+    rate = 20.0  # how often the latest scan is looked at; a 10 Hz lidar is never missed
+
+    def __init__(self, context: LocalizerContext, params: Any = None) -> None:
+        p = self.params = localizer_params(self.Params, params)
+        self.context = context
+        frames = context.frames
+        for key in ("map_frame", "odom_frame", "base_frame"):
+            frames.require(getattr(p, key), key=f"slam_toolbox.{key}")
+        if p.map_start_pose is not None:
+            anchor = np.asarray(p.map_start_pose, float)
+        else:
+            anchor = frames.lookup(p.map_frame, p.odom_frame).as_array()
+        self.mapper = Mapper(p, anchor)
+        self.occupancy = OccupancyMapper(p.resolution, p.max_laser_range)
+        self._map_revision = 0
+        self._map_subscribers: list[Callable[[OccupancyGrid], None]] = []
+        self._last_scan: LaserScan | None = None
+        self.gate = ScanGate(p)
+        self._last_map_time: float | None = None
+        self._dirty = False
+        self.map: OccupancyGrid | None = None
+        self.map_to_odom = Pose2D.from_array(anchor)
+        self.pose = PoseWithCovariance(
+            context.clock.now, frames.lookup(p.map_frame, p.base_frame), frame_id=p.map_frame
+        )
+
+    # -- topics ------------------------------------------------------------------------------
+
+    def subscribe_map(self, callback: Callable[[OccupancyGrid], None]) -> None:
+        """`callback(map)` on every published map (and now, if one exists): `/map`, latched."""
+        self._map_subscribers.append(callback)
+        if self.map is not None:
+            callback(self.map)
+
+    def update(self, now: float) -> PoseWithCovariance:
+        scan = self.context.latest_scan
+        if scan is not None and scan is not self._last_scan:
+            self._last_scan = scan
+            self.laser_received(scan)
+        due = (
+            self._last_map_time is None
+            or now - self._last_map_time >= self.params.map_update_interval
+        )
+        if self._dirty and due:
+            self.publish_map(now)
+        return self.pose
+
+    # -- scans -------------------------------------------------------------------------------
+
+    def laser_received(self, scan: LaserScan) -> bool:
+        """One scan; True when the mapper took it."""
+        p = self.params
+        frames = self.context.frames
+        odom_t_base = frames.lookup(p.odom_frame, p.base_frame)
+        odom = odom_t_base.as_array()
+        if not self.gate(scan.stamp, odom):
+            return False
+        laser = frames.lookup(p.base_frame, scan.frame_id)
+        points, ranges, angles = scan_points(scan, laser, p.max_laser_range)
+        if not self.mapper.process(scan.stamp, odom, points, ranges, angles):
+            return False
+        self._laser = laser.as_array()
+        node = len(self.mapper.scans) - 1
+        if self.mapper.revision != self._map_revision:
+            self._rebuild()
+        else:
+            self.occupancy.add_scan(self.mapper.poses[node], ranges, angles, self._laser)
+        self._dirty = True
+        if self.map is None:
+            self.publish_map(scan.stamp)
+        estimate = Pose2D.from_array(self.mapper.poses[node])
+        self.map_to_odom = estimate @ odom_t_base.inverse()
+        frames.set_transform(p.map_frame, p.odom_frame, self.map_to_odom, scan.stamp)
+        self.pose = PoseWithCovariance(scan.stamp, estimate, frame_id=p.map_frame)
+        return True
+
+    def _rebuild(self) -> None:
+        scans = [(s.ranges, s.angles, self._laser) for s in self.mapper.scans]
+        self.occupancy.rebuild(self.mapper.poses, scans)
+        self._map_revision = self.mapper.revision
+
+    # -- the map -----------------------------------------------------------------------------
+
+    def publish_map(self, now: float) -> OccupancyGrid:
+        self.map = self.occupancy.grid(self.params.map_frame)
+        self._last_map_time = now
+        self._dirty = False
+        for callback in self._map_subscribers:
+            callback(self.map)
+        return self.map
