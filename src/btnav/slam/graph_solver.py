@@ -10,10 +10,13 @@ Jacobi, or the odometry chain) need hundreds of iterations on a Manhattan graph.
 
 So `BlockCholesky` is a sparse Cholesky of its own, on 3x3 blocks (one per pose):
 
-- symbolic, once per graph: a fill-reducing order (SuperLU's minimum degree on the
-  block graph, used only for its integer ordering and factor pattern: an M-matrix with
-  that pattern has no cancellation, so L's non-zeros are exactly the structural ones),
-  the elimination tree, and each column's height in it. Columns of one height do not
+- symbolic, once per graph: a fill-reducing order (nodes of degree <= 2 peeled in
+  rounds of independent sets, as cyclic reduction does, so a chain of m poses gives an
+  elimination tree ~log m high rather than m / 2; then SuperLU's minimum degree on what
+  is left), the factor's block pattern (SuperLU's L of a near-Laplacian M-matrix with
+  H's pattern: no cancellation, so its non-zeros are exactly the structural ones; only
+  integers reach the result, and the pattern is checked closed under fill), the
+  elimination tree and each column's height in it. Columns of one height do not
   depend on each other, so the numeric work is planned level by level as flat index
   arrays: which products L[i,j] L[k,j]^T update which block, in a fixed order.
 - numeric, every step: per level, all its updates as elementwise 3x3 products summed by
@@ -22,8 +25,8 @@ So `BlockCholesky` is a sparse Cholesky of its own, on 3x3 blocks (one per pose)
 
 Every float operation is a correctly rounded +, -, *, / or sqrt in a fixed order: the
 same bits on every CPU. On a 3500-pose Manhattan graph (bench/pose_graph_solver.py) a
-step costs about 1.4 times SuperLU's (factor 27 ms + solve 15 ms against 31 ms, one
-core), plus 45 ms of symbolic work per `optimize`. `solve_superlu` stays for comparison
+step costs about 1.3 times SuperLU's (factor 26 ms + solve 15 ms against 33 ms, one
+core), plus 50 ms of symbolic work per `optimize`. `solve_superlu` stays for comparison
 and offline use.
 """
 
@@ -277,63 +280,75 @@ class BlockCholesky:
         return rank, lower
 
     def _plan(self, colptr: I64, rows: I64, cols: I64, keys: I64, height: I64) -> list[_Level]:
-        n = self.n
-        is_off = rows > cols
-        off_ids = np.flatnonzero(is_off)
+        """Index arrays for every level, cut from whole-factor arrays sorted by level."""
+        n, nnz = self.n, keys.size
+        steps = np.arange(int(height.max()) + 2 if n else 1)
+        cnt = np.diff(colptr) - 1  # off-diagonal entries per column
+        off_ids = np.flatnonzero(rows > cols)
         # updates: for every column j, every pair p <= q of its off entries gives
-        # L[i, j] L[k, j]^T into L[i, k] (k = row p, i = row q)
-        cnt = np.diff(colptr) - 1
-        ent_pos = _ragged_arange(cnt)  # position of each off entry in its column
-        rep = cnt[cols[off_ids]] - ent_pos  # pairs (p, q >= p) starting at each p
+        # L[i, j] L[k, j]^T into L[i, k] (k = row p, i = row q), at k's level
+        rep = cnt[cols[off_ids]] - _ragged_arange(cnt)  # pairs (p, q >= p) from each p
         upd_b = np.repeat(off_ids, rep)
         upd_a = upd_b + _ragged_arange(rep)
-        target = np.searchsorted(keys, rows[upd_b] * n + rows[upd_a])
-        if not np.array_equal(keys[target], rows[upd_b] * n + rows[upd_a]):
+        want = rows[upd_b] * n + rows[upd_a]
+        target = np.searchsorted(keys, want)
+        if not np.array_equal(keys[np.minimum(target, nnz - 1)], want):
             raise RuntimeError("fill outside the symbolic pattern")
         t_level = height[rows[upd_b]]
         o = np.lexsort((target, t_level))
         upd_a, upd_b, target, t_level = upd_a[o], upd_b[o], target[o], t_level[o]
-        # forward solve: off entries (k, j) grouped by row k
-        fo = np.lexsort((cols[off_ids], rows[off_ids], height[rows[off_ids]]))
-        fw_ids = off_ids[fo]
-        fw_level = height[rows[fw_ids]]
-        levels = []
+        ub = np.searchsorted(t_level, steps)
+        tkey = t_level * nnz + target
+        gs = _group_starts(tkey)  # one run per updated entry
+        gb = np.searchsorted(gs, ub)
+        # columns level by level, and where each column's diagonal is among the runs
         col_order = np.lexsort((np.arange(n), height))
-        col_level = height[col_order]
-        for h in range(int(height.max()) + 1 if n else 0):
-            lc = col_order[np.searchsorted(col_level, h) : np.searchsorted(col_level, h, "right")]
-            local = np.full(n, -1, np.int64)
-            local[lc] = np.arange(lc.size)
-            t0, t1 = np.searchsorted(t_level, h), np.searchsorted(t_level, h, "right")
-            tg = target[t0:t1]
-            st = _group_starts(tg)
-            oc = cnt[lc]
-            off = np.repeat(colptr[lc] + 1, oc) + _ragged_arange(oc)
-            off_col = np.repeat(np.arange(lc.size), oc)
-            f0, f1 = np.searchsorted(fw_level, h), np.searchsorted(fw_level, h, "right")
-            fw = fw_ids[f0:f1]
-            fst = _group_starts(rows[fw])
-            upd_diag = np.searchsorted(tg[st], colptr[lc]) if tg.size else st
-            if tg.size and not np.array_equal(tg[st][upd_diag], colptr[lc]):
-                raise RuntimeError("a column above the leaves without updates")
+        cb = np.searchsorted(height[col_order], steps)
+        pos = np.empty(n, np.int64)  # index of a column within its level
+        pos[col_order] = np.arange(n) - np.repeat(cb[:-1], np.diff(cb))
+        dkey = height[col_order] * nnz + colptr[col_order]
+        dpos = np.searchsorted(tkey[gs], dkey)
+        up = height[col_order] > 0
+        if gs.size and not np.array_equal(tkey[gs][np.minimum(dpos, gs.size - 1)][up], dkey[up]):
+            raise RuntimeError("a column above the leaves without updates")
+        # off-diagonal entries of the columns, level by level, column by column
+        oc = cnt[col_order]
+        off = np.repeat(colptr[col_order] + 1, oc) + _ragged_arange(oc)
+        off_col = np.repeat(pos[col_order], oc)
+        cum = np.concatenate([[0], np.cumsum(oc)])
+        ob = cum[cb]
+        col_runs = cum[:-1][oc > 0]
+        cr = np.searchsorted(col_runs, ob)
+        # forward solve: off entries (k, j) grouped by row k, level by level
+        fw = off_ids[np.lexsort((cols[off_ids], rows[off_ids], height[rows[off_ids]]))]
+        fb = np.searchsorted(height[rows[fw]], steps)
+        fgs = _group_starts(rows[fw])
+        fgb = np.searchsorted(fgs, fb)
+        levels = []
+        for h in range(steps.size - 1):
+            t0, t1, g0, g1 = ub[h], ub[h + 1], gb[h], gb[h + 1]
+            o0, o1, f0, f1 = ob[h], ob[h + 1], fb[h], fb[h + 1]
+            lc = col_order[cb[h] : cb[h + 1]]
+            ost = col_runs[cr[h] : cr[h + 1]] - o0
+            fst = fgs[fgb[h] : fgb[h + 1]] - f0
             levels.append(
                 _Level(
                     cols=lc,
                     upd_a=upd_a[t0:t1],
                     upd_b=upd_b[t0:t1],
-                    upd_starts=st,
-                    upd_target=tg[st],
-                    upd_diag=upd_diag,
+                    upd_starts=gs[g0:g1] - t0,
+                    upd_target=target[gs[g0:g1]],
+                    upd_diag=dpos[cb[h] : cb[h + 1]] - g0,
                     diag=colptr[lc],
-                    off=off,
-                    off_col=off_col,
-                    off_row=rows[off],
-                    off_starts=_group_starts(off_col),
-                    off_cols=off_col[_group_starts(off_col)],
-                    fw=fw,
-                    fw_src=cols[fw],
+                    off=off[o0:o1],
+                    off_col=off_col[o0:o1],
+                    off_row=rows[off[o0:o1]],
+                    off_starts=ost,
+                    off_cols=off_col[o0:o1][ost],
+                    fw=fw[f0:f1],
+                    fw_src=cols[fw[f0:f1]],
                     fw_starts=fst,
-                    fw_rows=local[rows[fw[fst]]] if fw.size else fst,
+                    fw_rows=pos[rows[fw[f0:f1][fst]]],
                 )
             )
         return levels
