@@ -44,6 +44,7 @@ from ..params.loader import load_params
 from ..params.map_io import MapSaverParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..sim.world import World
+from ..slam.slam_toolbox import default_slam_params
 from .bt_navigator import BtNavigator
 from .waypoint_follower import WaypointFollower
 
@@ -92,6 +93,8 @@ class BasicNavigator:
         pf = params if isinstance(params, ParamsFile) else load_params(params)
         section = {"amcl": "amcl", "slam": "slam_toolbox"}.get(localization)
         model = pf.server(section).model if section is not None and section in pf else None
+        if localization == "slam" and model is None:  # Nav2's slam_launch.py default file
+            model = default_slam_params()
         rt.use_localizer(
             localization, model, kind="slam" if localization == "slam" else "localizer"
         )

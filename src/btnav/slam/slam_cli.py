@@ -20,6 +20,7 @@ from ..params.localization import SlamToolboxParams
 from .graph_io import save_pose_graph
 from .logs import read_log
 from .offline import OfflineResult, run_slam
+from .slam_toolbox import default_slam_params
 
 
 def _progress(label: str):  # type: ignore[no-untyped-def]
@@ -40,12 +41,10 @@ def _progress(label: str):  # type: ignore[no-untyped-def]
 
 
 def slam_params(path: str | PathLike[str] | None) -> SlamToolboxParams:
-    """The `slam_toolbox:` section of a Nav2-style params file (its defaults without one)."""
-    if path is None:
-        return SlamToolboxParams()
-    pf = load_params(path)
-    if "slam_toolbox" not in pf:
-        return SlamToolboxParams()
+    """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)."""
+    pf = load_params(path) if path is not None else None
+    if pf is None or "slam_toolbox" not in pf:
+        return default_slam_params()
     return pf.server("slam_toolbox").model  # type: ignore[no-any-return]
 
 

@@ -7,7 +7,9 @@ corrected pose. The map is published on `map_update_interval` (and after the fir
 scan) to every `subscribe_map` callback, as slam_toolbox's latched `/map`; it is
 rebuilt from every scan at its optimised pose after a loop closure. The map frame is
 anchored where `map -> odom` was when SLAM started (the mission's initial pose) unless
-`map_start_pose` is given.
+`map_start_pose` is given. Without a `slam_toolbox:` section in the mission's params
+the section of slam_toolbox's own mapper_params_online_async.yaml applies (bundled in
+params/), the file Nav2's slam_launch.py hands slam_toolbox.
 """
 
 from __future__ import annotations
@@ -19,14 +21,23 @@ import numpy as np
 
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan, PoseWithCovariance
+from ..core.resources import bundled_dir
 from ..localization.localizer import LocalizerContext, localizer_params
 from ..maps.occupancy_grid import OccupancyGrid
+from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
 from ..plugins import register
 from .mapper import Mapper
 from .occupancy_mapper import OccupancyMapper
 from .scan_gate import ScanGate
 from .scan_points import scan_points
+
+#: slam_toolbox's own params file, bundled in params/ (see the module doc).
+DEFAULT_PARAMS_FILE = "mapper_params_online_async.yaml"
+
+
+def default_slam_params() -> SlamToolboxParams:
+    return load_params(bundled_dir("params") / DEFAULT_PARAMS_FILE).server("slam_toolbox").model
 
 
 @register("slam", "slam", aliases=["slam_toolbox", "slam_toolbox::AsyncSlamToolbox"])
