@@ -54,10 +54,13 @@ def drive_loop(
     route: list[tuple[float, float]] = LOOP,
     kind: str = "slam",
     name: str = "slam",
+    on_start: Any = None,
 ) -> Drive:
     w = World.from_file(world, seed=seed)
     rt = Runtime(w, seed=seed)
     slam = rt.use_localizer(name, params, kind=kind)
+    if on_start is not None:  # e.g. give AMCL its map and initial pose
+        on_start(slam)
     path = _dense(route)
     start = rt.frames.lookup("map", "odom")
     i = 0

@@ -110,6 +110,9 @@ class SlamToolboxParams(NodeParams):
     position_covariance_scale: float = Field(1.0, gt=0.0)
     yaw_covariance_scale: float = Field(1.0, gt=0.0)
     map_start_pose: list[float] | None = Field(None, min_length=3, max_length=3)
+    #: A serialised pose graph (`.npz`, the extension may be left out as slam_toolbox
+    #: does): loaded and localised on with `mode: localization`.
+    map_file_name: str = ""
     # Karto mapper
     use_scan_matching: bool = True
     use_scan_barycenter: bool = True
@@ -152,10 +155,7 @@ class SlamToolboxParams(NodeParams):
     scan_queue_size: int = ignored(1, Why.QOS)
     map_name: str = ignored("/map", Why.TOPIC)
     use_map_saver: bool = ignored(True, "btnav writes the map itself (outputs: [map])")
-    map_file_name: str = ignored("", "loading serialized pose graphs is not implemented yet")
-    map_start_at_dock: bool = ignored(
-        False, "loading serialized pose graphs is not implemented yet"
-    )
+    map_start_at_dock: bool = ignored(False, "btnav has no docks: use map_start_pose")
     debug_logging: bool = ignored(False, "slam_toolbox's console logging")
     transform_timeout: float = ignored(0.5, Why.TF, ge=0.0)
     tf_buffer_duration: float = ignored(30.0, Why.TF, ge=0.0)

@@ -25,6 +25,12 @@ class PoseGraphFileError(BtnavError):
     """A serialised pose graph that cannot be read."""
 
 
+def graph_file(path: str | PathLike[str]) -> Path:
+    """slam_toolbox names a serialised graph without its extension; btnav's is `.npz`."""
+    p = Path(path)
+    return p if p.suffix == ".npz" else p.with_name(p.name + ".npz")
+
+
 def _ragged(parts: list[np.ndarray], dtype: type) -> tuple[np.ndarray, np.ndarray]:
     lengths = np.array([len(p) for p in parts], np.int64)
     flat = np.concatenate(parts).astype(dtype) if parts else np.zeros(0, dtype)

@@ -7,7 +7,9 @@ corrected pose. The map is published on `map_update_interval` (and after the fir
 scan) to every `subscribe_map` callback, as slam_toolbox's latched `/map`; it is
 rebuilt from every scan at its optimised pose after a loop closure. The map frame is
 anchored where `map -> odom` was when SLAM started (the mission's initial pose) unless
-`map_start_pose` is given. Without a `slam_toolbox:` section in the mission's params
+`map_start_pose` is given. With `mode: localization` the pose graph in `map_file_name`
+(written by `serialize_pose_graph` or `btnav slam`) is loaded, its map published, and
+the robot tracked on it (`GraphLocalizer`); nothing is added to the graph. Without a `slam_toolbox:` section in the mission's params
 the section of slam_toolbox's own mapper_params_online_async.yaml applies (bundled in
 params/), the file Nav2's slam_launch.py hands slam_toolbox.
 """
@@ -15,10 +17,13 @@ params/), the file Nav2's slam_launch.py hands slam_toolbox.
 from __future__ import annotations
 
 from collections.abc import Callable
+from os import PathLike
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..core.errors import ParamsError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan, PoseWithCovariance
 from ..core.resources import bundled_dir
@@ -27,6 +32,8 @@ from ..maps.occupancy_grid import OccupancyGrid
 from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
 from ..plugins import register
+from .graph_io import graph_file, load_pose_graph, save_pose_graph
+from .graph_localizer import GraphLocalizer
 from .mapper import Mapper
 from .occupancy_mapper import OccupancyMapper
 from .scan_gate import ScanGate
@@ -57,9 +64,20 @@ class SlamToolbox:
             anchor = np.asarray(p.map_start_pose, float)
         else:
             anchor = frames.lookup(p.map_frame, p.odom_frame).as_array()
-        self.mapper = Mapper(p, anchor)
         self.occupancy = OccupancyMapper(p.resolution, p.max_laser_range)
         self._map_revision = 0
+        #: `mode: localization`: the robot is tracked on a loaded graph that never changes.
+        self.localizer: GraphLocalizer | None = None
+        if p.mode == "localization":
+            if not p.map_file_name:
+                raise ParamsError(
+                    "mode: localization needs the pose graph to localise on",
+                    key="slam_toolbox.map_file_name",
+                )
+            self.mapper = load_pose_graph(graph_file(p.map_file_name), p)
+            self.localizer = GraphLocalizer(self.mapper, anchor)
+        else:
+            self.mapper = Mapper(p, anchor)
         self._map_subscribers: list[Callable[[OccupancyGrid], None]] = []
         self._last_scan: LaserScan | None = None
         self.gate = ScanGate(p)
@@ -103,23 +121,33 @@ class SlamToolbox:
         if not self.gate(scan.stamp, odom):
             return False
         laser = frames.lookup(p.base_frame, scan.frame_id)
-        points, ranges, angles = scan_points(scan, laser, p.max_laser_range)
-        if not self.mapper.process(scan.stamp, odom, points, ranges, angles):
-            return False
         self._laser = laser.as_array()
-        node = len(self.mapper.scans) - 1
-        if self.mapper.revision != self._map_revision:
-            self._rebuild()
+        points, ranges, angles = scan_points(scan, laser, p.max_laser_range)
+        if self.localizer is not None:
+            if self.map is None:  # the loaded graph's map, once
+                self._rebuild()
+                self.publish_map(scan.stamp)
+            estimate = Pose2D.from_array(self.localizer.process(odom, points))
         else:
-            self.occupancy.add_scan(self.mapper.poses[node], ranges, angles, self._laser)
-        self._dirty = True
-        if self.map is None:
-            self.publish_map(scan.stamp)
-        estimate = Pose2D.from_array(self.mapper.poses[node])
+            if not self.mapper.process(scan.stamp, odom, points, ranges, angles):
+                return False
+            node = len(self.mapper.scans) - 1
+            if self.mapper.revision != self._map_revision:
+                self._rebuild()
+            else:
+                self.occupancy.add_scan(self.mapper.poses[node], ranges, angles, self._laser)
+            self._dirty = True
+            if self.map is None:
+                self.publish_map(scan.stamp)
+            estimate = Pose2D.from_array(self.mapper.poses[node])
         self.map_to_odom = estimate @ odom_t_base.inverse()
         frames.set_transform(p.map_frame, p.odom_frame, self.map_to_odom, scan.stamp)
         self.pose = PoseWithCovariance(scan.stamp, estimate, frame_id=p.map_frame)
         return True
+
+    def serialize_pose_graph(self, path: str | PathLike[str]) -> Path:
+        """slam_toolbox's SerializePoseGraph: the graph and its scans, for `mode: localization`."""
+        return save_pose_graph(self.mapper, graph_file(path))
 
     def _rebuild(self) -> None:
         scans = [(s.ranges, s.angles, self._laser) for s in self.mapper.scans]
