@@ -21,7 +21,10 @@ The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
 - The path is extracted as `calcPath` does: from the goal cell, step half a cell down
   the bilinearly interpolated, normalised potential gradient; next to unreached cells
   (or when oscillating) follow the grid to the lowest of the eight neighbours; stop
-  when the potential falls below `COST_NEUTRAL` (the robot's cell is next).
+  when the potential falls below `COST_NEUTRAL` (the robot's cell is next). Where that
+  descent fails on this potential although it reached the goal (its 4-neighbour
+  gradient can lose its way among unknown cells, see `extract_path`), the path follows
+  the grid all the way, which on this potential always reaches the robot.
 """
 
 from __future__ import annotations
@@ -311,11 +314,36 @@ def extract_path(
     `to_cell` (the potential's zero), or None on failure.
 
     Coordinates are in cells with cell centres at integers (cell (i, j) is (i, j));
-    the descent starts at `from_xy` itself, not at its cell's centre."""
+    the descent starts at `from_xy` itself, not at its cell's centre.
+
+    calcPath reads its gradient from a cell's four neighbours. That leads down NavFn's
+    own potential (a planar-wave update leaves a cell above its lowest 4-neighbour) but
+    not always down this 16-connected one: a cell reached by a diagonal or knight's step
+    between two costlier cells, such as the unknown cells (COST_OBS - 1) scattered along
+    a SLAM map's frontier, lies below all four of its neighbours; around it the gradient
+    turns back uphill, and the descent circles until `max_cycles` (calcPath's
+    oscillation check, an exact repeat two steps back, misses a drifting loop, and its
+    fallback steps onto that very cell). So when calcPath fails, the path follows the
+    grid all the way instead: a path calcPath finds is kept as it is.
+    """
     ny, nx = potential.shape
-    ns = nx * ny
     pot = array("d")
     pot.frombytes(np.ascontiguousarray(potential, dtype=np.float64).tobytes())
+    gradients = _gradients(pot, nx, nx * ny)
+    for on_grid in (False, True):
+        path = _descend(
+            pot, nx, ny, gradients, from_xy, to_cell, max_cycles, on_grid, cancel_checker
+        )
+        if path is not None:
+            return path
+    return None
+
+
+def _gradients(
+    pot: array[float], nx: int, ns: int
+) -> tuple[dict[int, tuple[float, float]], Callable[[int], tuple[float, float]]]:
+    """NavFn's gradCell (the normalised 4-neighbour potential difference, pointing down)
+    and its cache, shared by both descents."""
     grads: dict[int, tuple[float, float]] = {}
 
     def grad(n: int) -> tuple[float, float]:
@@ -350,6 +378,26 @@ def extract_path(
         grads[n] = g
         return g
 
+    return grads, grad
+
+
+def _descend(
+    pot: array[float],
+    nx: int,
+    ny: int,
+    gradients: tuple[dict[int, tuple[float, float]], Callable[[int], tuple[float, float]]],
+    from_xy: tuple[float, float],
+    to_cell: tuple[int, int],
+    max_cycles: int,
+    on_grid: bool,
+    cancel_checker: Callable[[], bool] | None,
+) -> NDArray[np.float64] | None:
+    """calcPath's descent; `on_grid` follows the grid at every step (calcPath's fallback
+    next to unreached cells: to the lowest of the eight neighbours). On this potential
+    that always goes down (a reached cell's predecessor in the search, or for a knight's
+    move the cell it crosses first, is one of its eight neighbours and lower), so it
+    reaches the robot's cell within as many steps as there are cells on the way."""
+    ns = nx * ny
     fx, fy = math.floor(from_xy[0]), math.floor(from_xy[1])
     stc = fy * nx + fx
     dx, dy = from_xy[0] - fx, from_xy[1] - fy
@@ -357,6 +405,8 @@ def extract_path(
     ys: list[float] = []
     high = POT_HIGH
     floor = math.floor
+    grads, grad = gradients
+    get = grads.get
     for i in range(max_cycles):
         if i % 1000 == 999:
             _check(cancel_checker)
@@ -372,10 +422,10 @@ def extract_path(
             return None
         xs.append(stc % nx + dx)
         ys.append(stc // nx + dy)
-        oscillating = len(xs) > 2 and xs[-1] == xs[-3] and ys[-1] == ys[-3]
         up, down = stc - nx, stc + nx
-        if (
-            oscillating
+        follow_grid = (
+            on_grid
+            or (len(xs) > 2 and xs[-1] == xs[-3] and ys[-1] == ys[-3])  # oscillating
             or pot[stc] >= high
             or pot[up - 1] >= high
             or pot[up] >= high
@@ -385,7 +435,8 @@ def extract_path(
             or pot[down - 1] >= high
             or pot[down] >= high
             or pot[down + 1] >= high
-        ):
+        )
+        if follow_grid:
             ring = (up - 1, up, up + 1, stc - 1, stc + 1, down - 1, down, down + 1)
             best, best_pot = stc, pot[stc]
             for k in ring:
@@ -395,8 +446,7 @@ def extract_path(
             if best_pot >= high:
                 return None
             continue
-        # grad(n), from its cache when there (a gradient is a non-empty tuple: truthy)
-        get = grads.get
+        # gradients from the cache when there (a gradient is a non-empty tuple: truthy)
         g00 = get(stc) or grad(stc)
         g10 = get(stc + 1) or grad(stc + 1)
         g01 = get(down) or grad(down)
