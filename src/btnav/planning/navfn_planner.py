@@ -41,7 +41,9 @@ class NavfnPlanner(GlobalPlanner):
       `use_final_approach_orientation` the direction of the last segment (Nav2's
       orientations; a smoother or the controller sets the rest).
     - Points are spaced half a cell apart (NavFn's gradient step), one cell where the
-      path follows the grid next to obstacles.
+      path follows the grid next to obstacles, or all the way where NavFn's gradient
+      descent fails on btnav's potential (among a SLAM map's scattered unknown cells,
+      with `allow_unknown`): a goal the potential reaches gets a path (within `max_cycles`).
     """
 
     class Params(GlobalPlanner.Params):
