@@ -65,8 +65,6 @@ def test_a_task_is_exactly_one_of_four(tmp_path):
 def test_what_btnav_cannot_do_yet_is_said_plainly(tmp_path):
     err = error_of(write_mission(tmp_path, task={"explore": {}}))
     assert err.key == "task.explore" and "not available yet" in err.message
-    err = error_of(write_mission(tmp_path, localization="slam", task={"navigate_to_pose": [3, 2]}))
-    assert err.key == "localization" and "ground_truth" in err.message
     err = error_of(
         write_mission(tmp_path, outputs=["report", "gif"], task={"navigate_to_pose": [3, 2]})
     )
