@@ -254,3 +254,21 @@ def test_a_file_that_returns_nothing_or_lacks_keys_says_so(tmp_path):
     with pytest.raises(CartographerConfigError) as info:
         load_cartographer_config(tmp_path / "my_robt.lua")
     assert info.value.suggestion == "my_robot.lua"
+
+
+def test_the_filters_and_solver_limits_btnav_acts_on_are_typed_not_ignored(tmp_path):
+    text = TURTLEBOT3.replace(
+        "return options",
+        "TRAJECTORY_BUILDER_2D.adaptive_voxel_filter.min_num_points = 150\n"
+        "POSE_GRAPH.constraint_builder.ceres_scan_matcher.ceres_solver_options.max_num_iterations = 5\n"
+        "POSE_GRAPH.max_num_final_iterations = 100\n"
+        "return options",
+    )
+    config = load_cartographer_config(write(tmp_path, text))
+    assert config.ignored == []
+    assert config.trajectory_builder_2d.adaptive_voxel_filter.min_num_points == 150
+    assert config.pose_graph.constraint_builder.ceres_scan_matcher.max_num_iterations == 5
+    assert config.pose_graph.max_num_final_iterations == 100
+    # Cartographer reads a point count as an integer
+    err = error_of(tmp_path, text.replace("min_num_points = 150", "min_num_points = 150.5"))
+    assert err.line == line_of(text, "min_num_points") and "whole number" in err.message

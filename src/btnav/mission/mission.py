@@ -98,6 +98,9 @@ class Mission:
     #: What `--set`/`--seed` changed, by place (`mission.seed`, `amcl.base_frame_id`, in the
     #: spelling errors use) -> the option that did (`--set amcl.base_frame_id=base_foot`).
     set_by: dict[str, str] = field(default_factory=dict)
+    #: The SLAM plugin's configuration when it is not a params-file section
+    #: (`localization: cartographer`: the loaded `.lua`).
+    slam_config: Any = None
 
     @property
     def name(self) -> str:
@@ -170,7 +173,7 @@ class Mission:
                 warnings.warn(warning, stacklevel=2)
             if spec.localization == "amcl":
                 _check_amcl_start(spec, world, params, grid, map_file, where, changed)
-        elif spec.localization != "slam":
+        elif spec.localization not in SLAM:
             raise MissionError(
                 f"localization '{spec.localization}' needs a map; give `map:` "
                 "(or use localization: slam to make one)",
@@ -183,7 +186,8 @@ class Mission:
                 tree = str(find_tree(spec.tree, base_dir=base))
             except BtnavError as err:
                 raise _located(err, where("tree")) from None
-        return cls(spec, file, doc, world, params, map_file, tree, changed)
+        slam_config = _cartographer_config(spec, base, where)
+        return cls(spec, file, doc, world, params, map_file, tree, changed, slam_config)
 
     # -- running --------------------------------------------------------------------------
 
@@ -229,6 +233,7 @@ class Mission:
             self.map_file,
             seed=self.seed,
             localization=self.spec.localization,
+            slam_config=self.slam_config,
         )
         action = TASK_ACTION[self.task]
         try:  # the task's tree is built now, so a bad tree is a load error, not a failed run
@@ -401,8 +406,29 @@ def _existing(path: Path, key: str, where: Any) -> Path:
     return path
 
 
+#: Localisations that build their map (plugins of kind `slam`).
+SLAM = ("slam", "cartographer")
+
+
+def _cartographer_config(spec: MissionSpec, base: Path, where: Any) -> Any:
+    """The loaded `.lua` of `localization: cartographer` (its mistakes are load errors)."""
+    if spec.localization != "cartographer":
+        if spec.cartographer_config is not None:
+            raise MissionError(
+                "cartographer_config is read only with localization: cartographer",
+                **where("cartographer_config"),
+            )
+        return None
+    from ..slam.cartographer_config import load_cartographer_config
+
+    if spec.cartographer_config is None:
+        return load_cartographer_config(bundled_dir("params") / "cartographer_2d.lua")
+    path = _existing(resolve(base, spec.cartographer_config), "cartographer_config", where)
+    return load_cartographer_config(path)
+
+
 def _check_localization(spec: MissionSpec, where: Any) -> None:
-    kind = "slam" if spec.localization == "slam" else "localizer"
+    kind = "slam" if spec.localization in SLAM else "localizer"
     if spec.localization not in names(kind):
         have = ", ".join(names("localizer") + names("slam")) or "none"
         raise MissionError(

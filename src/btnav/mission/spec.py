@@ -96,7 +96,10 @@ class MissionSpec(StrictModel):
     world: str = Field(min_length=1)
     params: str | None = None
     map: str | None = None
-    localization: Literal["amcl", "slam", "ground_truth"] = "ground_truth"
+    localization: Literal["amcl", "slam", "cartographer", "ground_truth"] = "ground_truth"
+    #: Cartographer's options file for `localization: cartographer` (relative to the
+    #: mission; default: btnav's params/cartographer_2d.lua).
+    cartographer_config: str | None = None
     initial_pose: Pose | None = None
     tree: str | None = None
     task: TaskSpec

@@ -85,6 +85,7 @@ class BasicNavigator:
         seed: int = 0,
         localization: str = "ground_truth",
         tree: str | None = None,
+        slam_config: Any = None,
     ) -> Self:
         """World, params and map files (or a built `World`); `tree` replaces bt_navigator's
         default NavigateToPose tree (a file, or a bundled tree's bare name)."""
@@ -95,9 +96,10 @@ class BasicNavigator:
         model = pf.server(section).model if section is not None and section in pf else None
         if localization == "slam" and model is None:  # Nav2's slam_launch.py default file
             model = default_slam_params()
-        rt.use_localizer(
-            localization, model, kind="slam" if localization == "slam" else "localizer"
-        )
+        if localization == "cartographer":  # its .lua, not a params-file section
+            model = slam_config
+        kind = "slam" if localization in ("slam", "cartographer") else "localizer"
+        rt.use_localizer(localization, model, kind=kind)
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)
         set_map = getattr(rt.localizer, "set_map", None)

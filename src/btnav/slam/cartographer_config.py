@@ -7,6 +7,9 @@ and memory, and `include` resolved the way `cartographer_node` does (the file's 
 folder and `search_dirs`, then btnav's copies of Cartographer's defaults). Where Lua
 cannot say where a key came from, a small scan of the source finds the `KEY =` that
 wrote it, so every mistake names its file, line and dotted key, as btnav's YAML does.
+
+The Lua sandbox lives in `lua_sandbox`, the typed views in `cartographer_options`; this
+module loads, checks and types (their names are re-exported here).
 """
 
 from __future__ import annotations
@@ -17,25 +20,70 @@ import re
 import typing
 from bisect import bisect_right
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, fields, is_dataclass
+from dataclasses import fields, is_dataclass
 from pathlib import Path
 from typing import Any
 
-from ..core.errors import BtnavError
 from ..core.suggest import best_match
+from .cartographer_options import (
+    GLOBALS,
+    PG,
+    TB2D,
+    TB3D,
+    VIEWS,
+    AdaptiveVoxelFilter,
+    CartographerConfig,
+    CeresScanMatcher,
+    ConstraintBuilder,
+    FastCorrelativeScanMatcher,
+    Frames,
+    Key,
+    MotionFilter,
+    OptimizationProblem,
+    PoseGraph,
+    RealTimeCorrelativeScanMatcher,
+    Submaps2D,
+    TrajectoryBuilder2D,
+    spell,
+)
+from .lua_sandbox import (
+    FORBIDDEN,
+    MAX_INSTRUCTIONS,
+    MAX_MEMORY,
+    CartographerConfigError,
+    LuaRun,
+)
+
+__all__ = [
+    "DEFAULTS_DIR",
+    "FORBIDDEN",
+    "GLOBALS",
+    "MAX_INSTRUCTIONS",
+    "MAX_MEMORY",
+    "PG",
+    "TB2D",
+    "TB3D",
+    "VIEWS",
+    "AdaptiveVoxelFilter",
+    "CartographerConfig",
+    "CartographerConfigError",
+    "CeresScanMatcher",
+    "ConstraintBuilder",
+    "FastCorrelativeScanMatcher",
+    "Frames",
+    "Key",
+    "MotionFilter",
+    "OptimizationProblem",
+    "PoseGraph",
+    "RealTimeCorrelativeScanMatcher",
+    "Submaps2D",
+    "TrajectoryBuilder2D",
+    "load_cartographer_config",
+    "spell",
+]  # fmt: skip
 
 DEFAULTS_DIR = Path(__file__).resolve().parent / "cartographer_defaults"
-#: What a runaway configuration may spend before it is stopped (a real one needs ~1e4 steps).
-MAX_INSTRUCTIONS, MAX_MEMORY = 10_000_000, 64 * 2**20
-Key = tuple[str, ...]
-TB2D: Key = ("trajectory_builder", "trajectory_builder_2d")
-TB3D: Key = ("trajectory_builder", "trajectory_builder_3d")
-PG: Key = ("map_builder", "pose_graph")
-#: The globals Cartographer's defaults define, used to spell a key as users write it.
-GLOBALS: dict[Key, str] = {
-    ("map_builder",): "MAP_BUILDER", ("trajectory_builder",): "TRAJECTORY_BUILDER",
-    TB2D: "TRAJECTORY_BUILDER_2D", TB3D: "TRAJECTORY_BUILDER_3D", PG: "POSE_GRAPH",
-}  # fmt: skip
+
 #: Keys cartographer_ros and the builders read only when present.
 OPTIONAL: set[Key] = {
     ("publish_to_tf",), ("publish_tracked_pose",), ("use_pose_extrapolator",),
@@ -45,7 +93,7 @@ OPTIONAL: set[Key] = {
 #: Leaf names Cartographer reads with GetInt/GetNonNegativeInt; every other number is a double.
 _INTEGERS = (
     "branch_and_bound_depth fresh_submaps_count full_resolution_depth max_num_final_iterations "
-    "max_num_iterations max_submaps_to_keep min_added_submaps_count num_accumulated_range_data "
+    "max_num_iterations max_submaps_to_keep min_added_submaps_count min_num_points num_accumulated_range_data "
     "num_background_threads num_free_space_voxels num_normal_samples num_range_data num_threads "
     "optimize_every_n_nodes rotational_histogram_size update_weight_range_exponent num_laser_scans "
     "num_multi_echo_laser_scans num_subdivisions_per_laser_scan num_point_clouds"
@@ -57,135 +105,6 @@ BEHAVES_AS: dict[Key, Any] = {
     (*TB2D, "submaps", "grid_options_2d", "grid_type"): "PROBABILITY_GRID",
     (*TB2D, "submaps", "range_data_inserter", "range_data_inserter_type"): "PROBABILITY_GRID_INSERTER_2D",
     (*TB2D, "submaps", "range_data_inserter", "probability_grid_range_data_inserter", "insert_free_space"): True,
-}  # fmt: skip
-#: Names a configuration may not touch; reaching for one says why instead of "nil value".
-FORBIDDEN = ("os", "io", "require", "dofile", "loadfile", "load", "loadstring", "package",
-             "debug", "collectgarbage", "coroutine", "python", "module", "setfenv", "getfenv", "read")  # fmt: skip
-
-
-class CartographerConfigError(BtnavError):
-    """A Cartographer configuration btnav cannot run or accept (file, line, dotted key)."""
-
-
-# -- typed views of what btnav implements (field name = Cartographer key unless `PATHS` says) --
-
-
-@dataclass(frozen=True)
-class Frames:
-    """The REP-105 frames Cartographer reads and publishes between (map -> odom -> published)."""
-
-    map_frame: str
-    tracking_frame: str
-    published_frame: str
-    odom_frame: str
-    provide_odom_frame: bool
-    use_odometry: bool
-
-
-@dataclass(frozen=True)
-class RealTimeCorrelativeScanMatcher:
-    linear_search_window: float
-    angular_search_window: float
-    translation_delta_cost_weight: float
-    rotation_delta_cost_weight: float
-
-
-@dataclass(frozen=True)
-class CeresScanMatcher:
-    occupied_space_weight: float
-    translation_weight: float
-    rotation_weight: float
-
-
-@dataclass(frozen=True)
-class MotionFilter:
-    max_time_seconds: float
-    max_distance_meters: float
-    max_angle_radians: float
-
-
-@dataclass(frozen=True)
-class Submaps2D:
-    """`submaps`, flattened: a probability grid is the only kind btnav builds (`PATHS`: where)."""
-
-    PATHS: typing.ClassVar[dict[str, Key]] = {
-        "resolution": ("grid_options_2d", "resolution"),
-        "hit_probability": ("range_data_inserter", "probability_grid_range_data_inserter", "hit_probability"),
-        "miss_probability": ("range_data_inserter", "probability_grid_range_data_inserter", "miss_probability"),
-    }  # fmt: skip
-    num_range_data: int
-    resolution: float
-    hit_probability: float
-    miss_probability: float
-
-
-@dataclass(frozen=True)
-class TrajectoryBuilder2D:
-    min_range: float
-    max_range: float
-    missing_data_ray_length: float
-    num_accumulated_range_data: int
-    voxel_filter_size: float
-    use_online_correlative_scan_matching: bool
-    real_time_correlative_scan_matcher: RealTimeCorrelativeScanMatcher
-    ceres_scan_matcher: CeresScanMatcher
-    motion_filter: MotionFilter
-    submaps: Submaps2D
-
-
-@dataclass(frozen=True)
-class FastCorrelativeScanMatcher:
-    linear_search_window: float
-    angular_search_window: float
-    branch_and_bound_depth: int
-
-
-@dataclass(frozen=True)
-class ConstraintBuilder:
-    sampling_ratio: float
-    max_constraint_distance: float
-    min_score: float
-    global_localization_min_score: float
-    loop_closure_translation_weight: float
-    loop_closure_rotation_weight: float
-    fast_correlative_scan_matcher: FastCorrelativeScanMatcher
-
-
-@dataclass(frozen=True)
-class OptimizationProblem:
-    huber_scale: float
-    local_slam_pose_translation_weight: float
-    local_slam_pose_rotation_weight: float
-    odometry_translation_weight: float
-    odometry_rotation_weight: float
-
-
-@dataclass(frozen=True)
-class PoseGraph:
-    optimize_every_n_nodes: int
-    constraint_builder: ConstraintBuilder
-    matcher_translation_weight: float
-    matcher_rotation_weight: float
-    optimization_problem: OptimizationProblem
-    global_sampling_ratio: float
-
-
-@dataclass(frozen=True)
-class CartographerConfig:
-    """A loaded configuration: the whole table as Python, btnav's typed view of what it acts
-    on, and the keys it accepts but will not act on (the caller warns about them once)."""
-
-    options: dict[str, Any]
-    file: Path
-    ignored: list[str]
-    frames: Frames
-    trajectory_builder_2d: TrajectoryBuilder2D
-    pose_graph: PoseGraph
-
-
-#: Where each typed view sits in the options table.
-VIEWS: dict[str, tuple[type, Key]] = {
-    "frames": (Frames, ()), "trajectory_builder_2d": (TrajectoryBuilder2D, TB2D), "pose_graph": (PoseGraph, PG),
 }  # fmt: skip
 
 _GT0 = ("> 0", lambda v: v > 0)
@@ -208,7 +127,7 @@ def load_cartographer_config(
     if not file.is_file():
         near = best_match(file.name, [p.name for p in file.parent.glob("*.lua")])
         raise CartographerConfigError("no such configuration file", file=file, suggestion=near)
-    run = _LuaRun(file, [file.parent, *map(Path, search_dirs), DEFAULTS_DIR])
+    run = LuaRun(file, [file.parent, *map(Path, search_dirs), DEFAULTS_DIR])
     options = run.options()
     reference = _reference()
     places = _Places(run)
@@ -224,181 +143,10 @@ def load_cartographer_config(
     )
 
 
-# -- running the Lua ---------------------------------------------------------------------
-
-_BOOT = """function(resolve, forbidden, limit)
-  local load, error, type, pairs, getinfo = load, error, type, pairs, debug.getinfo
-  local function copy(t) local c = {} for k, v in pairs(t) do c[k] = v end return c end
-  local env = {
-    math = copy(math), string = copy(string), table = copy(table),
-    pairs = pairs, ipairs = ipairs, next = next, type = type, tostring = tostring,
-    tonumber = tonumber, select = select, error = error, assert = assert, rawget = rawget,
-    rawset = rawset, rawequal = rawequal, rawlen = rawlen, setmetatable = setmetatable,
-    getmetatable = getmetatable, unpack = table.unpack or unpack, _VERSION = _VERSION,
-    print = function() end,
-  }
-  env._G = env
-  local function run(code, chunkname)
-    local chunk, err = load(code, chunkname, "t", env)
-    if not chunk then error(err, 0) end
-    return chunk()
-  end
-  env.include = function(name)
-    local caller = getinfo(2, "Sl")
-    return run(resolve(name, caller.short_src, caller.currentline))
-  end
-  env.choose = function(condition, a, b)
-    if type(condition) ~= "boolean" then error("choose(condition, a, b) needs a boolean condition", 2) end
-    if condition then return a end
-    return b
-  end
-  setmetatable(env, {__index = function(_, name)
-    if forbidden[name] then
-      error("'" .. name .. "' is not available: btnav runs Cartographer configurations in a "
-        .. "sandbox (no os, io, require, dofile, load; only include reads files)", 2)
-    end
-  end})
-  debug.sethook(function() error("still running after " .. limit .. " Lua steps: an endless loop?", 2) end, "", limit)
-  local function aliases(root)
-    local paths, out = {}, {}
-    local function walk(t, path)
-      if paths[t] then return end
-      paths[t] = path
-      for k, v in pairs(t) do
-        if type(k) == "string" and type(v) == "table" then walk(v, path .. "\\1" .. k) end
-      end
-    end
-    walk(root, "")
-    for name, v in pairs(env) do
-      if type(name) == "string" and type(v) == "table" and paths[v] then out[name] = paths[v] end
-    end
-    return out
-  end
-  return run, aliases
-end"""
-_CHUNK = re.compile(r"^btnav#(\d+):(\d+): (.*)", re.S)
-
-
-def _lupa(file: Path) -> Any:
-    """The Lua Cartographer links (5.2), else the nearest lupa ships."""
-    import importlib
-
-    for name in ("lupa.lua52", "lupa.lua53", "lupa.lua54", "lupa"):
-        try:
-            return importlib.import_module(name)
-        except ImportError:
-            continue
-    raise CartographerConfigError(
-        "reading Cartographer's .lua configuration needs the Lua runtime lupa: "
-        "pip install 'btnav[cartographer]'",
-        file=file,
-    )
-
-
-class _LuaRun:
-    """One sandboxed Lua state running one configuration and the files it includes."""
-
-    def __init__(self, file: Path, dirs: list[Path]) -> None:
-        self.lupa = _lupa(file)
-        self.dirs = dirs
-        self.files: list[Path] = [file]
-        self.texts: list[str] = [_read(file, None, None)]
-        self.included_by: dict[Path, tuple[Path, int]] = {}
-        lua = self.lupa.LuaRuntime(
-            register_eval=False, register_builtins=False, unpack_returned_tuples=True,
-            max_memory=MAX_MEMORY,
-        )  # fmt: skip
-        forbidden = lua.table_from({n: True for n in FORBIDDEN})
-        self._run, self._aliases = lua.eval(_BOOT)(self._include, forbidden, MAX_INSTRUCTIONS)
-        self.aliases: dict[str, Key] = {}
-
-    def _include(self, name: Any, src: str, line: int) -> tuple[str, str]:
-        """`include "x.lua"`: the first folder that has it, as Cartographer's FileResolver."""
-        m = re.match(r"btnav#(\d+)", src)
-        by, at = (self.files[int(m.group(1))] if m else None), line
-        if not isinstance(name, str) or not name:
-            raise CartographerConfigError("include takes a file name", file=by, line=at)
-        found = next((d / name for d in self.dirs if (d / name).is_file()), None)
-        if found is None:
-            loaded = {f.name for f in self.files}
-            names = sorted({p.name for d in self.dirs for p in d.glob("*.lua")} - loaded)
-            where = ", ".join(str(d) for d in self.dirs)
-            raise CartographerConfigError(
-                f'include "{name}": no such file in {where}', file=by, line=at,
-                suggestion=best_match(name, names),
-            )  # fmt: skip
-        found = found.resolve()
-        if found in self.included_by or found == self.files[0].resolve():
-            first = self.included_by.get(found)
-            before = f" (first by {first[0]}:{first[1]})" if first else ""
-            raise CartographerConfigError(
-                f'include "{name}": {found} is already included{before}; Cartographer refuses '
-                "to include a file twice", file=by, line=at,
-            )  # fmt: skip
-        self.included_by[found] = (by or self.files[0], at)
-        self.files.append(found)
-        self.texts.append(_read(found, by, at))
-        return self.texts[-1], f"=btnav#{len(self.files) - 1}"
-
-    def options(self) -> Any:
-        """Run the file; the table it returns, as Python, and the globals naming its parts."""
-        try:
-            result = self._run(self.texts[0], "=btnav#0")
-            if self.lupa.lua_type(result) != "table":
-                raise CartographerConfigError(
-                    "returns no table: a Cartographer configuration ends with `return options`",
-                    file=self.files[0],
-                )
-            self.aliases = {
-                name: tuple(p for p in path.split("\1") if p)
-                for name, path in self._aliases(result).items()
-            }
-            return _to_python(result, self.lupa.lua_type, (), self.files[0], [100_000])
-        except self.lupa.LuaMemoryError:
-            raise CartographerConfigError(
-                f"uses more than {MAX_MEMORY >> 20} MB of memory", file=self.files[0]
-            ) from None
-        except self.lupa.LuaError as err:
-            text = str(err).split("\nstack traceback:", 1)[0]
-            if m := _CHUNK.match(text):
-                file, line, text = self.files[int(m.group(1))], int(m.group(2)), m.group(3)
-                raise CartographerConfigError(text, file=file, line=line) from None
-            raise CartographerConfigError(text, file=self.files[0]) from None
-
-
-def _read(file: Path, by: Path | None, line: int | None) -> str:
-    try:
-        return file.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        raise CartographerConfigError(f"cannot read {file}: {err}", file=by, line=line) from None
-
-
-def _to_python(
-    value: Any, lua_type: Callable[[Any], str | None], path: Key, file: Path, budget: list[int]
-) -> Any:
-    """A Lua value as Python: tables with keys 1..n become lists, other tables dicts.
-
-    `budget` counts values down: a table that holds itself (or shares one table many
-    times over) would otherwise unfold without end."""
-    budget[0] -= 1
-    kind = lua_type(value)
-    if kind is None:
-        return value
-    if kind != "table":
-        raise CartographerConfigError(f"is a {kind}: a configuration holds data", file=file, key=spell(path))  # fmt: skip
-    if len(path) > 40 or budget[0] < 0:
-        raise CartographerConfigError("tables nest too deep (a table inside itself?)", file=file, key=spell(path[:3]))  # fmt: skip
-    items = sorted(value.items(), key=lambda kv: (isinstance(kv[0], str), kv[0]))
-    keys = [k for k, _ in items]
-    if keys and keys == list(range(1, len(keys) + 1)):
-        return [_to_python(v, lua_type, (*path, str(k)), file, budget) for k, v in items]
-    return {k: _to_python(v, lua_type, (*path, str(k)), file, budget) for k, v in items}
-
-
 @functools.lru_cache(maxsize=1)
 def _reference() -> dict[str, Any]:
     """Every key a configuration may hold, with its default (shared: never mutate it)."""
-    return _LuaRun(DEFAULTS_DIR / "options_reference.lua", [DEFAULTS_DIR]).options()
+    return LuaRun(DEFAULTS_DIR / "options_reference.lua", [DEFAULTS_DIR]).options()
 
 
 # -- where a key was written ---------------------------------------------------------------
@@ -471,7 +219,7 @@ def _assignments(text: str) -> tuple[list[tuple[int, Key]], int | None]:
 class _Places:
     """Maps a key of the options table to the file and line a user wrote it at."""
 
-    def __init__(self, run: _LuaRun) -> None:
+    def __init__(self, run: LuaRun) -> None:
         self.files = run.files
         self.user = [i for i, f in enumerate(run.files) if f.parent != DEFAULTS_DIR]
         self.returns: int | None = None
@@ -507,14 +255,6 @@ class _Places:
         """Direct mistakes before missing keys, the options file first, then by line."""
         i = next((i for i, f in enumerate(self.files) if str(f) == err.file), len(self.files))
         return (getattr(err, "consequence", False), i != 0, i, err.line or 10**9)
-
-
-def spell(key: Key) -> str:
-    """A key as users write it: under the global that holds it (`TRAJECTORY_BUILDER_2D.min_range`)."""
-    for n in range(len(key), 0, -1):
-        if key[:n] in GLOBALS:
-            return ".".join((GLOBALS[key[:n]], *key[n:]))
-    return ".".join(key)
 
 
 # -- checking --------------------------------------------------------------------------------

@@ -1,3 +1,6 @@
 """Importing this module registers btnav's built-in SLAM (entry point `btnav.plugins`)."""
 
-from . import slam_toolbox  # noqa: F401
+from . import (
+    cartographer_slam,  # noqa: F401
+    slam_toolbox,  # noqa: F401
+)

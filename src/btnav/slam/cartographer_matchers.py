@@ -1,0 +1,388 @@
+"""Cartographer's 2D scan matchers against a submap, and the voxel filters that feed them.
+
+- `real_time_correlative_match` (RealTimeCorrelativeScanMatcher2D, Olson's real-time
+  correlative matching): every candidate of a small window around the prediction,
+  scored by the mean probability of the cells its points fall in, times
+  exp(-(|dt| translation_delta_cost_weight + |dtheta| rotation_delta_cost_weight)^2).
+  The angular step is the one that moves the farthest point by about one cell.
+- `ceres_match` (CeresScanMatcher2D): Ceres's least-squares cost, the points on the
+  submap's bicubic (Catmull-Rom, as ceres::BiCubicInterpolator) probability surface,
+  pulled towards a target translation and the initial heading. Minimised by damped
+  Newton with the exact Hessian (Gauss-Newton, Ceres's method, oscillates on this
+  curved surface: ~20 steps where Newton takes 2 or 3); 3 x 3 systems solved by hand.
+- `FastCorrelativeScanMatcher` (FastCorrelativeScanMatcher2D): the loop-closure search
+  over a wide window, exact, by branch and bound on a stack of max-pooled grids (level d
+  holds the maximum over a 2^d x 2^d block, an upper bound for all candidates it
+  covers). The bound starts at `min_score`, is raised by greedy dives from the best
+  coarse candidates, then every level's survivors are expanded together.
+
+Candidates are scored as whole arrays (points x candidates, integer sums of grid
+values); trigonometry is `fmath`; no BLAS.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..core import fmath
+from .cartographer_options import (
+    AdaptiveVoxelFilter,
+    CeresScanMatcher,
+    RealTimeCorrelativeScanMatcher,
+)
+from .submaps import MAX_VALUE, MIN_PROBABILITY, Submap
+
+F64 = NDArray[np.float64]
+I64 = NDArray[np.int64]
+_SPAN = 1.0 - 2.0 * MIN_PROBABILITY  # probability spread of the cell values
+#: Lookups per batch in the branch and bound (bounds its temporaries to ~30 MB).
+_BATCH = 1 << 20
+#: Greedy dives that seed the branch and bound's bound.
+_DIVES = 4
+
+
+# -- point clouds -----------------------------------------------------------------------
+
+
+def voxel_filter(points: F64, size: float) -> F64:
+    """One point per `size` square (the first of each, in scan order): Cartographer's VoxelFilter."""
+    if len(points) == 0 or size <= 0.0:
+        return points
+    k = np.floor(points / size).astype(np.int64) + (1 << 30)
+    _, first = np.unique(k[:, 0] * (1 << 31) + k[:, 1], return_index=True)
+    return points[np.sort(first)]
+
+
+def adaptive_voxel_filter(points: F64, options: AdaptiveVoxelFilter) -> F64:
+    """Cartographer's AdaptiveVoxelFilter: the coarsest voxel (at most `max_length`) that
+    leaves at least `min_num_points`, found by halving then bisecting to 10%."""
+    max_length, min_num_points = options.max_length, options.min_num_points
+    points = points[(points * points).sum(axis=1) <= options.max_range**2]
+    if len(points) <= min_num_points:
+        return points
+    result = voxel_filter(points, max_length)
+    if len(result) >= min_num_points:
+        return result
+    high = max_length
+    while high > 1e-2 * max_length:  # a handful of voxel sizes, each one vectorised pass
+        low = high / 2.0
+        result = voxel_filter(points, low)
+        if len(result) >= min_num_points:
+            while (high - low) / low > 1e-1:
+                mid = (low + high) / 2.0
+                candidate = voxel_filter(points, mid)
+                if len(candidate) >= min_num_points:
+                    low, result = mid, candidate
+                else:
+                    high = mid
+            return result
+        high /= 2.0
+    return result
+
+
+def angular_step(points: F64, resolution: float) -> float:
+    """The heading step that moves the farthest point (at least 3 cells out) by about a cell."""
+    far = max(
+        3.0 * resolution,
+        float(np.sqrt((points * points).sum(axis=1).max())) if len(points) else 0.0,
+    )
+    s = resolution / (2.0 * far)  # acos(1 - r^2 / (2 d^2)) = 2 asin(r / (2 d))
+    return (1.0 - 1e-3) * 2.0 * float(fmath.arctan2(s, math.sqrt(1.0 - s * s)))
+
+
+def _headings(centre: float, window: float, step: float) -> F64:
+    n = math.ceil(window / step)
+    return centre + step * np.arange(-n, n + 1)
+
+
+def _point_cells(submap: Submap, points: F64, pose_xy: F64, angles: F64) -> tuple[I64, I64]:
+    """(A, N) lattice cells of the points turned to each heading and moved to `pose_xy`."""
+    s, c = fmath.sincos(angles)
+    x, y = points[:, 0][None, :], points[:, 1][None, :]
+    wx = c[:, None] * x - s[:, None] * y + pose_xy[0]
+    wy = s[:, None] * x + c[:, None] * y + pose_xy[1]
+    lat = submap.lattice
+    inv = 1.0 / lat.resolution
+    rows = np.floor((wy - lat.y0) * inv + 0.5).astype(np.int64)
+    cols = np.floor((wx - lat.x0) * inv + 0.5).astype(np.int64)
+    return rows, cols
+
+
+def _mean_probability(sums: NDArray[np.integer], n: int) -> F64:
+    """Mean probability of n cells from the sum of their (unknown-as-1) values."""
+    return MIN_PROBABILITY + (sums / n - 1.0) * (_SPAN / (MAX_VALUE - 1))
+
+
+# -- local SLAM ----------------------------------------------------------------------------
+
+
+def real_time_correlative_match(
+    submap: Submap, points: F64, prediction: F64, options: RealTimeCorrelativeScanMatcher
+) -> tuple[F64, float]:
+    """The best candidate around `prediction` (local frame) and its score."""
+    res = submap.lattice.resolution
+    angles = _headings(
+        float(prediction[2]), options.angular_search_window, angular_step(points, res)
+    )
+    n = math.ceil(options.linear_search_window / res)
+    size = 2 * n + 1
+    grid, r0, c0 = submap.scoring(max(size, 4))
+    rows, cols = _point_cells(submap, points, prediction[:2], angles)
+    h, w = grid.shape
+    top = np.minimum(np.maximum(rows - n - r0, 0), h - size)
+    left = np.minimum(np.maximum(cols - n - c0, 0), w - size)
+    window = (np.arange(size)[:, None] * w + np.arange(size)).reshape(size, size, 1, 1)
+    sums = grid.reshape(-1)[window + (top * w + left)].sum(axis=3, dtype=np.int64)  # (dy, dx, A)
+    score = _mean_probability(sums.transpose(2, 0, 1), len(points))
+    offsets = (np.arange(size) - n) * res
+    dist = fmath.hypot(offsets[:, None], offsets[None, :])
+    turn = np.abs(angles - prediction[2])
+    cost = (
+        dist[None, :, :] * options.translation_delta_cost_weight
+        + turn[:, None, None] * options.rotation_delta_cost_weight
+    )
+    score = score * fmath.exp(-(cost * cost))
+    a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
+    pose = np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]])
+    return pose, float(score[a, i, j])
+
+
+#: Catmull-Rom weights of samples -1, 0, 1, 2 as cubics in t (rows: t^0, t^1, t^2, t^3).
+_CUBIC = np.array(
+    [[0.0, 1.0, 0.0, 0.0], [-0.5, 0.0, 0.5, 0.0], [1.0, -2.5, 2.0, -0.5], [-0.5, 1.5, -1.5, 0.5]]
+)
+_PROBABILITY_STEP = _SPAN / (MAX_VALUE - 1)
+
+
+def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
+    """Probability at points and, up to `order`, its derivatives per metre (x, y; then xx,
+    xy, yy): Catmull-Rom in both axes (ceres::BiCubicInterpolator's kernel); off the
+    grid it is 0.1 and flat. Arrays are laid out (..., N) so every sum runs over rows."""
+    grid, r0, c0 = submap.scoring(4)
+    lat = submap.lattice
+    inv = 1.0 / lat.resolution
+    u = (xy[:, 0] - lat.x0) * inv - c0  # cell centres at whole numbers
+    v = (xy[:, 1] - lat.y0) * inv - r0
+    j, i = np.floor(u), np.floor(v)
+    tu, tv = u - j, v - i
+    h, w = grid.shape
+    top = np.minimum(np.maximum(i.astype(np.int64) - 1, 0), h - 4)
+    left = np.minimum(np.maximum(j.astype(np.int64) - 1, 0), w - 4)
+    flat = _NEIGHBOURS[w] if w in _NEIGHBOURS else _NEIGHBOURS.setdefault(w, (np.arange(4)[:, None] * w + np.arange(4)).reshape(16, 1))  # fmt: skip
+    f = grid.reshape(-1)[flat + (top * w + left)] * _PROBABILITY_STEP
+    f = f.reshape(4, 4, -1)  # (row, col, N), less a constant that the weights sum away
+    k0, k1, k2, k3 = _CUBIC[:, :, None]
+    wu, wv = k0 + tu * (k1 + tu * (k2 + tu * k3)), k0 + tv * (k1 + tv * (k2 + tv * k3))
+    fx = (f * wu).sum(axis=1)  # (4, N): each row interpolated in x
+    base = MIN_PROBABILITY - _PROBABILITY_STEP  # value 1 is probability 0.1
+    out: tuple[F64, ...] = ((fx * wv).sum(axis=0) + base,)
+    if order >= 1:
+        du, dv = k1 + tu * (2.0 * k2 + 3.0 * tu * k3), k1 + tv * (2.0 * k2 + 3.0 * tv * k3)
+        fdx = (f * du).sum(axis=1)
+        out += ((fdx * wv).sum(axis=0) * inv, (fx * dv).sum(axis=0) * inv)
+    if order >= 2:
+        ddu, ddv = 2.0 * k2 + 6.0 * tu * k3, 2.0 * k2 + 6.0 * tv * k3
+        inv2 = inv * inv
+        fxx = ((f * ddu).sum(axis=1) * wv).sum(axis=0)
+        out += (fxx * inv2, (fdx * dv).sum(axis=0) * inv2, (fx * ddv).sum(axis=0) * inv2)
+    return out
+
+
+_NEIGHBOURS: dict[int, I64] = {}
+
+
+def ceres_match(
+    submap: Submap, points: F64, target_xy: F64, initial: F64, w: CeresScanMatcher
+) -> F64:
+    """The pose (local frame) minimising Ceres's cost: sum over points of
+    (occupied_space_weight / sqrt(N) (1 - P))^2 plus the weighted squared distance to
+    `target_xy` and to `initial`'s heading. Minimised by damped Newton on the exact
+    Hessian of the bicubic surface (Gauss-Newton, Ceres's choice, oscillates on a surface
+    this curved and needs its 20 iterations); stops at Ceres's function tolerance."""
+    if len(points) == 0:
+        return np.asarray(initial, float).copy()
+    a = w.occupied_space_weight / math.sqrt(len(points))
+    target = np.array([float(target_xy[0]), float(target_xy[1]), float(initial[2])])
+    pw = np.array([w.translation_weight, w.translation_weight, w.rotation_weight])
+    px, py = points[:, 0], points[:, 1]
+
+    def evaluate(x: F64, order: int) -> tuple[float, F64, F64]:
+        s, c = fmath.sincos(float(x[2]))
+        rx, ry = c * px - s * py, s * px + c * py  # the points turned, before the shift
+        d = _bicubic(submap, np.column_stack([rx + x[0], ry + x[1]]), order)
+        r = a * (1.0 - d[0])
+        prior = pw * (x - target)
+        cost = float((r * r).sum()) + float((prior * prior).sum())
+        if order == 0:
+            return cost, np.zeros((3, 3)), np.zeros(3)
+        gx, gy, gxx, gxy, gyy = d[1:]
+        tx, ty = -ry, rx  # d(point)/d(theta)
+        j = [-a * gx, -a * gy, -a * (gx * tx + gy * ty)]
+        # r d2r: -a r times the second derivative of P along the pose's parameters
+        ar = -a * r
+        second = [
+            [gxx, gxy, gxx * tx + gxy * ty],
+            [gxy, gyy, gxy * tx + gyy * ty],
+            [None, None, gxx * tx * tx + 2.0 * gxy * tx * ty + gyy * ty * ty - gx * rx - gy * ry],
+        ]
+        hess = np.empty((3, 3))
+        for k in range(3):
+            for m in range(k, 3):
+                hess[k, m] = hess[m, k] = float((j[k] * j[m] + ar * second[k][m]).sum())
+        hess += np.diag(pw * pw)
+        grad = np.array([float((jk * r).sum()) for jk in j]) + prior * pw
+        return cost, hess, grad
+
+    x = np.asarray(initial, float).copy()
+    cost, hess, grad = evaluate(x, 2)
+    mu = 0.0
+    for _ in range(w.max_num_iterations):
+        step = _solve3(hess + mu * np.diag(np.abs(np.diag(hess))), -grad)
+        if step is None:
+            mu = max(10.0 * mu, 1e-3)
+            continue
+        trial = evaluate(x + step, 2)  # the derivatives come with the cost: no extra pass
+        if trial[0] < cost:
+            done = cost - trial[0] <= 1e-6 * cost
+            x = x + step
+            cost, hess, grad = trial
+            mu = mu / 10.0 if mu > 1e-6 else 0.0
+            if done:
+                break
+        else:
+            mu = max(10.0 * mu, 1e-3)
+    return x
+
+
+def _solve3(m: F64, b: F64) -> F64 | None:
+    """m x = b for a symmetric 3 x 3 m by Cholesky in Python floats; None if m is not
+    positive definite."""
+    a = m.tolist()
+    if a[0][0] <= 0.0:
+        return None
+    l00 = math.sqrt(a[0][0])
+    l10, l20 = a[1][0] / l00, a[2][0] / l00
+    d1 = a[1][1] - l10 * l10
+    if d1 <= 0.0:
+        return None
+    l11 = math.sqrt(d1)
+    l21 = (a[2][1] - l20 * l10) / l11
+    d2 = a[2][2] - l20 * l20 - l21 * l21
+    if d2 <= 0.0:
+        return None
+    l22 = math.sqrt(d2)
+    y0 = b[0] / l00
+    y1 = (b[1] - l10 * y0) / l11
+    y2 = (b[2] - l20 * y0 - l21 * y1) / l22
+    x2 = y2 / l22
+    x1 = (y1 - l21 * x2) / l11
+    x0 = (y0 - l10 * x1 - l20 * x2) / l00
+    return np.array([x0, x1, x2])
+
+
+# -- global SLAM ---------------------------------------------------------------------------
+
+
+class FastCorrelativeScanMatcher:
+    """Branch and bound over a finished submap (see the module doc). Values are quantised to
+    0..255 over [0.1, 0.9], as Cartographer's precomputation grids."""
+
+    def __init__(self, submap: Submap, branch_and_bound_depth: int) -> None:
+        self.submap = submap
+        v = np.maximum(submap.values.astype(np.int64), 1) - 1
+        half = MAX_VALUE - 1  # round(v 255 / 32766), in integers
+        q = ((v * 510 + half) // (2 * half)).astype(np.uint8)
+        level = np.pad(q, 1)  # a border of 0 (probability 0.1): clipped lookups read it
+        self.row0, self.col0 = submap.row0 - 1, submap.col0 - 1
+        self.levels = [level]
+        for d in range(branch_and_bound_depth - 1):
+            w = 1 << d
+            p = np.pad(level, ((0, w), (0, w)))
+            level = np.maximum(
+                np.maximum(p[:-w, :-w], p[:-w, w:]), np.maximum(p[w:, :-w], p[w:, w:])
+            )
+            self.levels.append(level)
+
+    def _scores(self, depth: int, rows: I64, cols: I64, a: I64, dx: I64, dy: I64) -> F64:
+        """Scores of candidates (heading index a, cell offsets dx, dy) at one level."""
+        grid = self.levels[depth]
+        h, w = grid.shape
+        n = rows.shape[1]
+        out = np.empty(len(a))
+        step = max(1, _BATCH // max(n, 1))
+        for k in range(0, len(a), step):  # batches of candidates, each one array pass
+            s = slice(k, k + step)
+            r = np.clip(rows[a[s]] + dy[s, None] - self.row0, 0, h - 1)
+            c = np.clip(cols[a[s]] + dx[s, None] - self.col0, 0, w - 1)
+            out[s] = grid.reshape(-1)[r * w + c].sum(axis=1, dtype=np.int64)
+        return MIN_PROBABILITY + out / n * (_SPAN / 255.0)
+
+    def match(
+        self,
+        points: F64,
+        initial: F64,
+        linear_window: float,
+        angular_window: float,
+        min_score: float,
+    ) -> tuple[F64, float] | None:
+        """The best pose (local frame) within the windows around `initial` scoring above
+        `min_score`, with its score; None if there is none."""
+        if len(points) == 0:
+            return None
+        res = self.submap.lattice.resolution
+        angles = _headings(float(initial[2]), angular_window, angular_step(points, res))
+        rows, cols = _point_cells(self.submap, points, initial[:2], angles)
+        n = math.ceil(linear_window / res)
+        top = len(self.levels) - 1
+        width = 1 << top
+        offs = np.arange(-n, n + 1, width)
+        a, dy, dx = (
+            g.ravel() for g in np.meshgrid(np.arange(len(angles)), offs, offs, indexing="ij")
+        )
+        score = self._scores(top, rows, cols, a, dx, dy)
+        best, best_score = None, min_score
+        for k in np.argsort(-score, kind="stable")[:_DIVES]:  # greedy dives: a first bound
+            leaf = self._dive(rows, cols, n, top, int(a[k]), int(dx[k]), int(dy[k]))
+            if leaf[3] > best_score:
+                best, best_score = leaf, leaf[3]
+        keep = score > best_score
+        a, dx, dy = a[keep], dx[keep], dy[keep]
+        for depth in range(top, 0, -1):
+            a, dx, dy = _children(a, dx, dy, 1 << (depth - 1), n)
+            score = self._scores(depth - 1, rows, cols, a, dx, dy)
+            keep = score > best_score
+            a, dx, dy, score = a[keep], dx[keep], dy[keep], score[keep]
+        if len(score):
+            k = int(np.argmax(score))
+            best, best_score = (int(a[k]), int(dx[k]), int(dy[k]), float(score[k])), float(score[k])
+        if best is None:
+            return None
+        pose = np.array([initial[0] + best[1] * res, initial[1] + best[2] * res, angles[best[0]]])
+        return pose, best_score
+
+    def _dive(
+        self, rows: I64, cols: I64, n: int, top: int, a: int, dx: int, dy: int
+    ) -> tuple[int, int, int, float]:
+        """Follow the best child down to a full-resolution candidate."""
+        ca, cx, cy = np.array([a]), np.array([dx]), np.array([dy])
+        score = np.zeros(1)
+        for depth in range(top, 0, -1):
+            ca, cx, cy = _children(ca, cx, cy, 1 << (depth - 1), n)
+            score = self._scores(depth - 1, rows, cols, ca, cx, cy)
+            k = int(np.argmax(score))
+            ca, cx, cy, score = ca[k : k + 1], cx[k : k + 1], cy[k : k + 1], score[k : k + 1]
+        if top == 0:
+            score = self._scores(0, rows, cols, ca, cx, cy)
+        return int(ca[0]), int(cx[0]), int(cy[0]), float(score[0])
+
+
+def _children(a: I64, dx: I64, dy: I64, half: int, n: int) -> tuple[I64, I64, I64]:
+    """The four sub-blocks of each candidate block, those starting inside the window."""
+    ca = np.repeat(a, 4)
+    cx = np.repeat(dx, 4) + np.tile([0, half, 0, half], len(dx))
+    cy = np.repeat(dy, 4) + np.tile([0, 0, half, half], len(dy))
+    ok = (cx <= n) & (cy <= n)
+    return ca[ok], cx[ok], cy[ok]
