@@ -30,9 +30,9 @@ from btnav.bt.bundled import (
     trees_dir,
 )
 from btnav.bt.document import TreeDocument, parse_xml_text
-from btnav.bt.tree_cli import tree_import_main, tree_show_main
 from btnav.bt.xml_to_yaml import import_xml
 from btnav.bt.yaml_tree import yaml_to_document
+from btnav.cli.tree import tree_import_main, tree_show_main
 from btnav.core.clock import SimClock
 from btnav.core.yaml_io import load_yaml_text
 from btnav.core.yaml_io import to_plain as plain

@@ -9,10 +9,10 @@ import pytest
 import yaml
 
 from btnav.cli import main
+from btnav.cli.params import check_main
 from btnav.control.regulated_pure_pursuit import NAV2_DOCS_SECTION
 from btnav.core.errors import ParamsError
 from btnav.params import load_params
-from btnav.params.check import check_main
 from btnav.params.updates import apply_overrides
 
 REPO = Path(__file__).resolve().parents[2]

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import pytest
 
+from btnav.cli.params import check_main, check_report
 from btnav.core.resources import bundled_dir
-from btnav.params import check_main, check_report, load_params
+from btnav.params import load_params
 
 IMPLEMENTED = {
     "amcl",

@@ -7,11 +7,12 @@ import math
 import numpy as np
 import pytest
 
+from btnav.cli.map import from_world_main
 from btnav.core.errors import BtnavError, MapError
 from btnav.core.resources import bundled_dir
 from btnav.maps import FREE, OCCUPIED, UNKNOWN
 from btnav.sim.geometry import Geometry
-from btnav.sim.rasterize import from_world_main, rasterize
+from btnav.sim.rasterize import rasterize
 from btnav.sim.world import World
 from btnav.sim.world_spec import WorldSpec, load_world_spec
 

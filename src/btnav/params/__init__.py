@@ -7,7 +7,7 @@ Key paths everywhere are ROS parameter paths as the file nests them, without
 `ros__parameters`: `local_costmap.local_costmap.inflation_layer.inflation_radius`.
 """
 
-from .check import check_main, check_report, format_report
+from .check import ParamsCheck, check_params
 from .loader import load_params, load_params_doc
 from .nav2_known import known_plugin_type
 from .paramsfile import IgnoredEntry, ParamsFile, Placeholder, PluginSection, ServerParams
@@ -19,6 +19,7 @@ __all__ = [
     "SERVERS",
     "FieldProblem",
     "IgnoredEntry",
+    "ParamsCheck",
     "ParamsFile",
     "ParamsModel",
     "Placeholder",
@@ -29,9 +30,7 @@ __all__ = [
     "ServerSpec",
     "Why",
     "apply_overrides",
-    "check_main",
-    "check_report",
-    "format_report",
+    "check_params",
     "ignored",
     "known_plugin_type",
     "load_params",

@@ -10,8 +10,6 @@ over cells (loops run over shapes and row chunks only).
 from __future__ import annotations
 
 import math
-from os import PathLike
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,7 +19,7 @@ from ..core.geometry import Pose2D
 from ..maps.occupancy_grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 from .scene import build_solids, solids_geometry
 from .world import World
-from .world_spec import WorldSpec, load_world_spec
+from .world_spec import WorldSpec
 
 #: Refuse maps larger than this many cells (int8 data, plus a bool mask, in memory).
 MAX_CELLS = 40_000_000
@@ -175,24 +173,3 @@ def rasterize(
     data = np.where(inside, np.int8(FREE), np.int8(UNKNOWN)).astype(np.int8)
     data[raster.occ] = OCCUPIED
     return OccupancyGrid(data, resolution, Pose2D(ox, oy, 0.0), "map")
-
-
-def from_world_main(
-    world_path: str | PathLike[str], out_yaml: str | PathLike[str], resolution: float = 0.05
-) -> int:
-    """`btnav map from-world WORLD.yaml -o MAP.yaml [--resolution R]`: write a map_server map.
-
-    A mistake in the world file raises its located `BtnavError` (the CLI prints it
-    and exits 2); success prints what was written and returns 0.
-    """
-    from ..maps.map_io import save_map  # maps IO is its own module; imported when used
-
-    spec = load_world_spec(world_path)
-    grid = rasterize(spec, resolution)
-    save_map(grid, Path(out_yaml))
-    occupied = int(np.count_nonzero(grid.data == OCCUPIED))
-    print(
-        f"wrote {out_yaml}: {grid.width} x {grid.height} cells at {resolution:g} m, "
-        f"origin [{grid.origin.x:g}, {grid.origin.y:g}, 0], {occupied} occupied"
-    )
-    return 0

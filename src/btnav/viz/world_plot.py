@@ -1,6 +1,6 @@
 """Draw a world: walls, obstacles (moving ones with their routes), the robot and a scan.
 
-`btnav world show WORLD.yaml -o world.png` calls `show_world_main`. Drawing uses a
+`btnav world show WORLD.yaml -o world.png` saves `world_figure`. Drawing uses a
 bare matplotlib `Figure` on the Agg canvas, never pyplot, so it works headless and
 does not change the backend of a user's own session.
 """
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 from os import PathLike
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -20,6 +19,7 @@ from ..core.messages import LaserScan
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
     from ..sim.world import World
 
@@ -211,8 +211,12 @@ def _figsize(world: World) -> tuple[float, float]:
     return (max(4.0, w * scale + 1.2), max(3.0, h * scale + 0.8))
 
 
-def show_world_main(world_path: str | PathLike[str], out_png: str | PathLike[str]) -> int:
-    """`btnav world show WORLD.yaml -o PNG`: the world, the robot at its start and one scan."""
+def world_figure(world_path: str | PathLike[str]) -> Figure:
+    """The world as `btnav world show` draws it: the robot at its start and one scan.
+
+    The scan is the first lidar's first reading (seed 0), so the picture shows what the
+    robot sees before it moves. The figure is a bare Agg `Figure`, ready to save.
+    """
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -235,14 +239,4 @@ def show_world_main(world_path: str | PathLike[str], out_png: str | PathLike[str
     ax = fig.add_subplot(1, 1, 1)
     draw_world(world, scan, ax)
     fig.tight_layout()
-    out = Path(out_png)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise BtnavError(f"cannot create the folder: {exc.strerror or exc}", file=out) from None
-    try:
-        fig.savefig(out, dpi=120)
-    except OSError as exc:
-        raise BtnavError(f"cannot write the picture: {exc.strerror or exc}", file=out) from None
-    print(f"wrote {out}")
-    return 0
+    return fig

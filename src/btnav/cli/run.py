@@ -11,9 +11,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .mission import Mission
-from .runner import run_mission
-from .status_line import StatusLine
+from ..mission.mission import Mission
+from ..mission.runner import run_mission
+from ..mission.status_line import StatusLine
 
 
 def default_out_dir(mission: Mission) -> Path:

@@ -13,13 +13,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from .api import run_batch
-from .jobs import parse_seeds, parse_sweep
-from .progress import default_progress
-from .results import RESULTS_FILE
-from .summary import markdown, summarize
-
-EXIT_OK, EXIT_FAILED, EXIT_INTERRUPTED = 0, 1, 130
+from ..batch.api import run_batch
+from ..batch.jobs import parse_seeds, parse_sweep
+from ..batch.progress import default_progress
+from ..batch.results import RESULTS_FILE
+from ..batch.summary import markdown, summarize
+from . import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
 
 
 def batch_main(

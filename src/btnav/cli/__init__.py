@@ -3,8 +3,14 @@
 A user's mistake prints one line (`btnav: error: file:line: key: message (did you mean
 ...?)`) and exits 2; `--debug` shows the traceback instead. A likely mistake that does
 not stop the command (a `BtnavWarning`) prints `btnav: warning: file:line: ...` once.
-Each command's work lives in the layer it belongs to; this file only parses arguments
-and maps results to exit codes.
+
+Commands print from here, so a library user's program never gets output it did not
+ask for. Each command group has a module (`run`, `batch`, `frames`, `params`, `map`,
+`slam`, `tree`, `world`) holding its `*_main` and its terminal formatting; the layers
+below compute, return data and raise `BtnavError`s (a run's or a batch's live progress
+is drawn only on the stream a command hands them). This file parses arguments, imports
+a command's module only when that command runs (so `btnav --help` stays quick), and
+maps results to exit codes.
 """
 
 from __future__ import annotations
@@ -13,34 +19,36 @@ import argparse
 import sys
 import warnings
 from collections.abc import Callable, Sequence
-from typing import TextIO
+from typing import Any, TextIO
 
-from . import __version__
-from .core.errors import ERROR_PREFIX, WARNING_PREFIX, BtnavError, BtnavWarning
+from .. import __version__
+from ..core.errors import ERROR_PREFIX, WARNING_PREFIX, BtnavError, BtnavWarning
 
 EXIT_OK, EXIT_FAILED, EXIT_USER_ERROR = 0, 1, 2
+#: Ctrl-C, as a shell reports a process SIGINT stopped (128 + 2).
+EXIT_INTERRUPTED = 130
 
 
 def _params_check(args: argparse.Namespace) -> int:
-    from .params.check import check_main
+    from .params import check_main
 
     return check_main(args.file)
 
 
 def _map_from_world(args: argparse.Namespace) -> int:
-    from .sim.rasterize import from_world_main
+    from .map import from_world_main
 
     return from_world_main(args.world, args.output, args.resolution)
 
 
 def _world_show(args: argparse.Namespace) -> int:
-    from .viz.world_plot import show_world_main
+    from .world import show_world_main
 
     return show_world_main(args.world, args.output)
 
 
 def _slam(args: argparse.Namespace) -> int:
-    from .slam.slam_cli import slam_main
+    from .slam import slam_main
 
     return slam_main(
         args.log, args.params, args.output, scan_topic=args.scan_topic, odom_topic=args.odom_topic
@@ -48,27 +56,26 @@ def _slam(args: argparse.Namespace) -> int:
 
 
 def _tree_import(args: argparse.Namespace) -> int:
-    from .bt.tree_cli import tree_import_main
+    from .tree import tree_import_main
 
     return tree_import_main(args.tree, args.output)
 
 
 def _tree_show(args: argparse.Namespace) -> int:
-    from .bt.tree_cli import tree_show_main
+    from .tree import tree_show_main
 
     return tree_show_main(args.tree)
 
 
 def _frames_of_world(args: argparse.Namespace) -> int:
-    from .sim.frames import world_frame_tree
+    from .world import world_frames_main
 
-    print(world_frame_tree(args.world).describe())
-    return EXIT_OK
+    return world_frames_main(args.world)
 
 
 def _overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str, str]]:
     """The `--set` values by key, and each key's option as typed (errors about it name that)."""
-    from .params.updates import parse_set_option
+    from ..params.updates import parse_set_option
 
     values: dict[str, object] = {}
     origins: dict[str, str] = {}
@@ -83,7 +90,7 @@ def _overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str, s
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .mission.run_cli import run_main
+    from .run import run_main
 
     overrides, origins = _overrides(args)
     return run_main(
@@ -92,7 +99,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _batch(args: argparse.Namespace) -> int:
-    from .batch.batch_cli import batch_main
+    from .batch import batch_main
 
     overrides, origins = _overrides(args)
     return batch_main(
@@ -109,7 +116,7 @@ def _batch(args: argparse.Namespace) -> int:
 
 
 def _frames_of_mission(args: argparse.Namespace) -> int:
-    from .mission.frames import frames_main
+    from .frames import frames_main
 
     return frames_main(args.mission, *_overrides(args))
 
@@ -119,6 +126,12 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(EXIT_USER_ERROR, f"{ERROR_PREFIX}{message} (see '{self.prog} --help')\n")
+
+
+def _group(sub: Any, name: str, help: str) -> Any:
+    """A command group (`btnav tree ...`): its own subcommands, one of which is required."""
+    group = sub.add_parser(name, help=help)
+    return group.add_subparsers(dest=f"{name}_command", required=True, parser_class=_Parser)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -183,17 +196,15 @@ def build_parser() -> argparse.ArgumentParser:
     frames_cmd.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
     frames_cmd.set_defaults(func=_frames_of_mission)
 
-    params = sub.add_parser("params", help="Nav2 params files")
-    params_sub = params.add_subparsers(dest="params_command", required=True, parser_class=_Parser)
-    check = params_sub.add_parser(
+    params = _group(sub, "params", "Nav2 params files")
+    check = params.add_parser(
         "check", help="validate a params file; list servers, plugins and ignored keys"
     )
     check.add_argument("file")
     check.set_defaults(func=_params_check)
 
-    maps = sub.add_parser("map", help="map_server maps")
-    maps_sub = maps.add_subparsers(dest="map_command", required=True, parser_class=_Parser)
-    fw = maps_sub.add_parser("from-world", help="rasterise a world's static geometry into a map")
+    maps = _group(sub, "map", "map_server maps")
+    fw = maps.add_parser("from-world", help="rasterise a world's static geometry into a map")
     fw.add_argument("world")
     fw.add_argument("-o", "--output", required=True, help="the map .yaml to write (and its .pgm)")
     fw.add_argument("--resolution", type=float, default=0.05, help="metres per cell (0.05)")
@@ -207,23 +218,21 @@ def build_parser() -> argparse.ArgumentParser:
     slam.add_argument("--odom-topic", help="the Odometry topic of a bag (when several)")
     slam.set_defaults(func=_slam)
 
-    tree = sub.add_parser("tree", help="behaviour trees (Nav2 XML or btnav YAML)")
-    tree_sub = tree.add_subparsers(dest="tree_command", required=True, parser_class=_Parser)
-    imp = tree_sub.add_parser("import", help="spell a Nav2 XML tree in btnav's YAML")
+    tree = _group(sub, "tree", "behaviour trees (Nav2 XML or btnav YAML)")
+    imp = tree.add_parser("import", help="spell a Nav2 XML tree in btnav's YAML")
     imp.add_argument("tree", help="the Nav2 .xml file")
     imp.add_argument("-o", "--output", help="the .yaml to write (default: print it)")
     imp.set_defaults(func=_tree_import)
-    show = tree_sub.add_parser("show", help="print a tree with its ports")
+    show = tree.add_parser("show", help="print a tree with its ports")
     show.add_argument("tree", help="a .xml/.yaml file or a bundled tree's name")
     show.set_defaults(func=_tree_show)
 
-    world = sub.add_parser("world", help="simulation worlds")
-    world_sub = world.add_subparsers(dest="world_command", required=True, parser_class=_Parser)
-    show = world_sub.add_parser("show", help="draw the world, the robot and one scan (viz extra)")
+    world = _group(sub, "world", "simulation worlds")
+    show = world.add_parser("show", help="draw the world, the robot and one scan (viz extra)")
     show.add_argument("world")
     show.add_argument("-o", "--output", required=True, help="the PNG to write")
     show.set_defaults(func=_world_show)
-    frames = world_sub.add_parser("frames", help="print the robot's frame tree (REP-105)")
+    frames = world.add_parser("frames", help="print the robot's frame tree (REP-105)")
     frames.add_argument("world")
     frames.set_defaults(func=_frames_of_world)
     return parser
@@ -270,8 +279,4 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"{ERROR_PREFIX}{where}{err.strerror or err}", file=sys.stderr)
             return EXIT_USER_ERROR
         except KeyboardInterrupt:
-            return 130
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+            return EXIT_INTERRUPTED

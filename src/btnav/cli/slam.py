@@ -1,9 +1,9 @@
 """`btnav slam LOG --params P -o OUT/`: SLAM on a recorded log, as slam_toolbox on a bag.
 
-Writes `OUT/map.yaml` + `map.pgm` (map_server's format), `OUT/trajectory.csv` (t, x,
-y, yaw: one row per scan, at the scan's time) and `OUT/pose_graph.npz` (the graph
-`localization: slam` with `mode: localization` can load). Every input is read and
-checked before anything is written.
+Writes `OUT/map.yaml` + `map.pgm`, `OUT/trajectory.csv` and `OUT/pose_graph.npz`
+(`slam.offline_files`). Every input is read and checked before anything is written.
+On a terminal a progress bar shows while the log is read and its scans matched; the
+summary line is all a log file gets.
 """
 
 from __future__ import annotations
@@ -12,15 +12,10 @@ import sys
 from os import PathLike
 from pathlib import Path
 
-import numpy as np
-
-from ..maps.map_io import save_map
-from ..params.loader import load_params
-from ..params.localization import SlamToolboxParams
-from .graph_io import save_pose_graph
-from .logs import read_log
-from .offline import OfflineResult, run_slam
-from .slam_toolbox import default_slam_params
+from ..slam.logs import read_log
+from ..slam.offline import run_slam
+from ..slam.offline_files import slam_params, write_outputs
+from . import EXIT_OK
 
 
 def _progress(label: str):  # type: ignore[no-untyped-def]
@@ -38,29 +33,6 @@ def _progress(label: str):  # type: ignore[no-untyped-def]
         bar.update(task, completed=done, total=total)
 
     return bar, update
-
-
-def slam_params(path: str | PathLike[str] | None) -> SlamToolboxParams:
-    """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)."""
-    pf = load_params(path) if path is not None else None
-    if pf is None or "slam_toolbox" not in pf:
-        return default_slam_params()
-    return pf.server("slam_toolbox").model  # type: ignore[no-any-return]
-
-
-def write_outputs(result: OfflineResult, out: Path) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    save_map(result.grid, out / "map.yaml")
-    rows = np.column_stack([result.stamps, result.poses])
-    np.savetxt(
-        out / "trajectory.csv",
-        rows,
-        delimiter=",",
-        header="t,x,y,yaw",
-        comments="",
-        fmt=["%.6f", "%.6f", "%.6f", "%.6f"],
-    )
-    save_pose_graph(result.mapper, out / "pose_graph.npz")
 
 
 def slam_main(
@@ -91,4 +63,4 @@ def slam_main(
         f"{result.wall_time:.1f} s ({log.duration / max(result.wall_time, 1e-9):.1f}x real "
         f"time); wrote {out}/map.yaml, trajectory.csv, pose_graph.npz"
     )
-    return 0
+    return EXIT_OK

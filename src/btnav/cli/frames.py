@@ -1,11 +1,16 @@
-"""`btnav frames MISSION`: the robot's frame tree, and every frame the params name checked."""
+"""`btnav frames MISSION`: the robot's frame tree, and every frame the params name checked.
+
+Every frame is listed with its state before the check raises, so a user sees all the
+frames at once and then the one-line error for the first missing one (exit 2).
+"""
 
 from __future__ import annotations
 
 from typing import Any
 
-from .mission import Mission
-from .param_frames import check_frames, frame_params, missing_frames
+from ..mission.mission import Mission
+from ..mission.param_frames import check_frames, frame_params, missing_frames
+from . import EXIT_OK
 
 
 def frames_main(
@@ -22,4 +27,4 @@ def frames_main(
             state = "not checked (section ignored by btnav)"
         print(f"  {p.key} = {p.frame} ({p.place}): {state}")
     check_frames(mission.params, frames, mission.set_by)
-    return 0
+    return EXIT_OK

@@ -16,18 +16,17 @@ from typing import TextIO
 
 from py_trees.behaviour import Behaviour
 
+from ..bt.bundled import find_tree
+from ..bt.display import tree_text
+from ..bt.document import TreeDocument
+from ..bt.errors import TreeError
+from ..bt.loader import build_tree, load_document
+from ..bt.registry import node_category, node_types
+from ..bt.validate import SUBTREE_TAGS, unknown_node_types
+from ..bt.xml_to_yaml import element_counts, import_xml
 from ..core.clock import SimClock
 from ..core.files import read_bytes
-from .bundled import find_tree
-from .display import tree_text
-from .document import TreeDocument
-from .errors import TreeError
-from .loader import build_tree, load_document
-from .registry import node_category, node_types
-from .validate import SUBTREE_TAGS, unknown_node_types
-from .xml_to_yaml import element_counts, import_xml
-
-EXIT_OK = 0
+from . import EXIT_OK
 
 # --- tree import ----------------------------------------------------------------------
 

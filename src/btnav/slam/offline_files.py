@@ -1,0 +1,44 @@
+"""The files of SLAM on a recorded log: the params it reads and the folder it writes.
+
+The folder is what slam_toolbox leaves after a bag: `map.yaml` + `map.pgm` (map_server's
+format), `trajectory.csv` (t, x, y, yaw: one row per scan, at the scan's time) and
+`pose_graph.npz` (the graph `localization: slam` with `mode: localization` loads).
+`btnav slam` (`btnav.cli.slam`) reads and checks every input before writing here.
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+from pathlib import Path
+
+import numpy as np
+
+from ..maps.map_io import save_map
+from ..params.loader import load_params
+from ..params.localization import SlamToolboxParams
+from .graph_io import save_pose_graph
+from .offline import OfflineResult
+from .slam_toolbox import default_slam_params
+
+
+def slam_params(path: str | PathLike[str] | None) -> SlamToolboxParams:
+    """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)."""
+    pf = load_params(path) if path is not None else None
+    if pf is None or "slam_toolbox" not in pf:
+        return default_slam_params()
+    return pf.server("slam_toolbox").model  # type: ignore[no-any-return]
+
+
+def write_outputs(result: OfflineResult, out: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    save_map(result.grid, out / "map.yaml")
+    rows = np.column_stack([result.stamps, result.poses])
+    np.savetxt(
+        out / "trajectory.csv",
+        rows,
+        delimiter=",",
+        header="t,x,y,yaw",
+        comments="",
+        fmt=["%.6f", "%.6f", "%.6f", "%.6f"],
+    )
+    save_pose_graph(result.mapper, out / "pose_graph.npz")
