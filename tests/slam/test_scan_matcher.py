@@ -52,11 +52,8 @@ ROOM = np.vstack(
 CORRIDOR = np.vstack([polyline((-10, -1), (10, -1)), polyline((-10, 1), (10, 1))])
 
 
-def raycast(
-    walls: np.ndarray, pose: tuple[float, float, float], noise: float = 0.0, seed: int = 0
-) -> np.ndarray:
-    """(N, 2) end points in the robot frame of a 360-beam scan from `pose` (beam order,
-    beams that hit nothing within RANGE_MAX left out)."""
+def cast_ranges(walls: np.ndarray, pose: tuple[float, float, float]) -> np.ndarray:
+    """The 360 ranges of a scan from `pose` (beams from -pi, inf where nothing is hit)."""
     x, y, yaw = pose
     beam = -math.pi + np.arange(BEAMS) * (2 * math.pi / BEAMS)
     s, c = fmath.sincos(beam + yaw)
@@ -69,7 +66,16 @@ def raycast(
         t = (wx * ey - wy * ex) / den
         u = (wx * dy - wy * dx) / den
     t = np.where((np.abs(den) > 1e-12) & (t > 1e-9) & (u >= 0) & (u <= 1), t, np.inf)
-    r = t.min(axis=1)
+    return t.min(axis=1)
+
+
+def raycast(
+    walls: np.ndarray, pose: tuple[float, float, float], noise: float = 0.0, seed: int = 0
+) -> np.ndarray:
+    """(N, 2) end points in the robot frame of a 360-beam scan from `pose` (beam order,
+    beams that hit nothing within RANGE_MAX left out)."""
+    beam = -math.pi + np.arange(BEAMS) * (2 * math.pi / BEAMS)
+    r = cast_ranges(walls, pose)
     if noise:
         r = r + np.random.default_rng(seed).normal(0.0, noise, r.shape)
     ok = (r > 0.12) & (r < RANGE_MAX)
@@ -273,6 +279,49 @@ def test_grid_equals_stamping_the_kernel_per_point(smear, res, way, monkeypatch)
     assert np.array_equal(grid.data, expect)
 
 
+@pytest.mark.parametrize(("count", "stride"), [(1, 1), (3, 1), (5, 2), (26, 2), (4, 3)])
+def test_window_sums_equal_summing_each_translation(count, stride):
+    """GetResponse's sums, lattice by lattice: points off the grid count 0, points whose
+    window only grazes the smeared core count what they touch."""
+    rng = np.random.default_rng(count * 10 + stride)
+    pts = rng.uniform(-0.4, 0.4, (60, 2))
+    pad = max((count - 1) * stride, 2)
+    grid = CorrelationGrid.from_scans(
+        [pts], np.zeros(2), np.zeros(2), resolution=0.02, smear_deviation=0.03,
+        roi_half_cells=10_000, pad=pad,
+    )  # fmt: skip
+    angles, points = 3, 40
+    first_row = grid.row0 + rng.integers(-pad - 3, grid.data.shape[0] + 3, (angles, points))
+    first_col = grid.col0 + rng.integers(-pad - 3, grid.data.shape[1] + 3, (angles, points))
+    sums = grid.window_sums(first_row, first_col, count, stride)
+    expect = np.zeros((angles, count, count), np.int64)
+    height, width = grid.data.shape
+    for a in range(angles):
+        for ty in range(count):
+            for tx in range(count):
+                r = first_row[a] + ty * stride - grid.row0
+                c = first_col[a] + tx * stride - grid.col0
+                inside = (r >= 0) & (r < height) & (c >= 0) & (c < width)
+                expect[a, ty, tx] = grid.data[r[inside], c[inside]].astype(np.int64).sum()
+    assert np.array_equal(sums, expect)
+
+
+def test_matching_many_scans_on_one_shared_grid(sequential):
+    """A grid built once for a reference serves scans from several guesses (as every scan
+    between two processed scans is matched): each lands where its own grid puts it."""
+    ref = reference_scans(ROOM, NEIGHBOURS)
+    grid = sequential.correlation_grid(ref, np.array(TRUE[:2]), np.array((2.8, 2.0)), 9.0)
+    for k, truth in enumerate([TRUE, (3.05, 2.12, 0.47), (2.71, 1.93, 0.31)]):
+        scan = raycast(ROOM, truth, noise=0.005, seed=20 + k)
+        guess = np.array((truth[0] + 0.09, truth[1] - 0.06, truth[2] + 0.04))
+        shared = sequential.match(scan, guess, (), grid=grid)
+        own = sequential.match(scan, guess, ref)
+        dist, ang = pose_error(shared, truth)
+        assert dist < 0.015 and ang < math.radians(0.5), (k, shared.pose, dist)
+        assert math.hypot(*(shared.pose[:2] - own.pose[:2])) < 0.015
+        assert abs(shared.response - own.response) < 0.05
+
+
 def _karto_find_valid_points(points, viewpoint):
     """open_karto's FindValidPoints, line by line."""
     valid = []
@@ -330,3 +379,55 @@ def test_scan_reference_pose_is_the_barycenter_or_the_pose():
     pose = np.array([0.5, 0.5, 1.0])
     assert np.allclose(scan_reference_pose(pts, pose, True), (2.0, 2.0, 0.0))
     assert np.array_equal(scan_reference_pose(pts, pose, False), pose)
+
+
+# -- every scan of a log matched (btnav slam's trajectory) ----------------------------
+
+
+def test_scans_between_processed_scans_are_matched_not_dead_reckoned():
+    """`btnav slam` gives every scan a pose. A scan the gate skips is laid onto the
+    processed scans before and after it, so an odometry glitch between them (0.15 m and
+    3 degrees for a few scans, as the Intel log's bursty stamps make) does not reach its
+    pose; slam_toolbox's map -> odom times the odometry carries it."""
+    from btnav.core.messages import LaserScan
+    from btnav.params.localization import SlamToolboxParams
+    from btnav.slam.logs import RecordedLog
+    from btnav.slam.offline import odometry_trajectory, run_slam
+
+    n = 61
+    truth = np.column_stack([0.9 + 0.04 * np.arange(n), np.full(n, 1.8), np.linspace(0.0, 0.3, n)])
+    stamps = 0.1 * np.arange(n)
+    odom = truth.copy()
+    glitch = np.arange(n)[(stamps > 2.55) & (stamps < 2.95)]
+    odom[glitch] += (0.15, 0.0, math.radians(3.0))
+    inc = 2 * math.pi / BEAMS
+    geometry = dict(angle_min=-math.pi, angle_max=-math.pi + (BEAMS - 1) * inc)
+    scans = [
+        LaserScan(
+            float(t),
+            "laser",
+            **geometry,
+            angle_increment=inc,
+            range_min=0.1,
+            range_max=RANGE_MAX,
+            ranges=cast_ranges(ROOM, tuple(p)).astype(np.float32),
+        )
+        for t, p in zip(stamps, truth, strict=True)
+    ]
+    log = RecordedLog("synthetic", scans, stamps, odom, duration=float(stamps[-1]))
+    params = SlamToolboxParams(max_laser_range=RANGE_MAX)
+    result = run_slam(log, params)
+    nodes = np.array([s.stamp for s in result.mapper.scans])
+    skipped = ~np.isin(stamps, nodes)
+    assert skipped[glitch].all() and 3 <= result.processed <= 8
+
+    def errors(poses: np.ndarray) -> np.ndarray:
+        return np.hypot(poses[:, 0] - truth[:, 0], poses[:, 1] - truth[:, 1])
+
+    matched = errors(result.poses)
+    node_of = np.searchsorted(nodes, stamps, side="right") - 1
+    dead_reckoned = errors(odometry_trajectory(result.mapper, log.odom_at(stamps), node_of))
+    assert matched[skipped].max() < 0.015, matched[skipped].max()
+    assert dead_reckoned[glitch].min() > 0.1
+    yaw = np.abs(np.angle(np.exp(1j * (result.poses[:, 2] - truth[:, 2]))))
+    assert yaw.max() < math.radians(0.5)

@@ -9,7 +9,9 @@ One `step()` is, in this fixed order:
 
 1. physics: the world advances by `physics_dt` (the last `cmd_vel` applies);
 2. odometry, if due: the new estimate is kept as `latest_odom` and published as
-   `odom -> base_footprint`;
+   `odom -> base_footprint` (with the world's `odometry: {source: laser}`, laser
+   odometry does this instead as each scan of the first lidar arrives in 3, before the
+   scan's other subscribers hear it; it is profiled as "LaserOdometry");
 3. sensors, if due, in the world file's order: each measurement is kept in
    `latest[frame_id]` (a scan also as `latest_scan`) and handed to subscribers;
 4. components that are due, by stage and then in the order they were added:
@@ -39,14 +41,17 @@ from time import perf_counter
 from typing import Any, Protocol, runtime_checkable
 
 from ..core.clock import SimClock
+from ..core.errors import WorldError
 from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan, Odometry, Twist
 from ..plugins import lookup
+from ..sim.lidar import Lidar
 from ..sim.odometry import WheelOdometry, make_odometry
 from ..sim.sensor import Sensor
 from ..sim.sensors import make_sensors
 from ..sim.world import World
+from ..slam.laser_odometry import LaserOdometry
 from .actions import ActionClient, ActionServer, ActionServers
 
 
@@ -133,7 +138,16 @@ class Runtime:
         self.step_count = 0
 
         self.sensors: list[Sensor] = make_sensors(world, seed)
-        self.odometry: WheelOdometry = make_odometry(world, seed)
+        # odometry: `source: laser` estimates odom -> base_footprint from the lidar's scans
+        # (published as each scan arrives), otherwise the wheels at their own rate
+        lidar = self._laser_odometry_lidar()
+        self.odometry: WheelOdometry | LaserOdometry
+        if lidar is None:
+            self.odometry = make_odometry(world, seed)
+        else:
+            self.odometry = LaserOdometry(
+                lidar.mount, stamp=self.now, publish=self._odometry_received
+            )
 
         # map -> odom starts at the start pose (odometry starts at identity there), which
         # is what a perfect localiser would publish; a localiser overwrites it.
@@ -156,9 +170,13 @@ class Runtime:
         self.profile: dict[str, float] | None = None
 
         now_ns = self.clock.now_ns
-        self._odometry_slot = _Scheduled(
-            self.odometry, -2, 0, _period_ns(self.odometry.rate, "odometry"), now_ns
-        )
+        self._odometry_slot: _Scheduled | None = None
+        if lidar is None:
+            self._odometry_slot = _Scheduled(
+                self.odometry, -2, 0, _period_ns(self.odometry.rate, "odometry"), now_ns
+            )
+        else:  # subscribed first: whoever hears the scan sees this scan's odom
+            self.subscribe(lidar.frame_id, self.odometry.scan_received)
         self._sensor_slots = [
             _Scheduled(s, -1, i, _period_ns(s.rate, f"sensor '{s.frame_id}'"), now_ns)
             for i, s in enumerate(self.sensors)
@@ -168,6 +186,27 @@ class Runtime:
         # The first measurements, at the start time, so nothing starts with no data.
         for sensor in self.sensors:
             self._publish(sensor.frame_id, sensor.measure(self.now))
+
+    def _laser_odometry_lidar(self) -> Lidar | None:
+        """The lidar that laser odometry matches (the first one), or None for wheels."""
+        spec = self.world.spec
+        if spec.robot.odometry.source != "laser":
+            return None
+        lidar = next((s for s in self.sensors if isinstance(s, Lidar)), None)
+        if lidar is None:
+            raise WorldError(
+                "odometry source 'laser' needs a lidar in robot.sensors",
+                file=spec.file,
+                line=spec.line_of("robot", "odometry", "source"),
+                key=["robot", "odometry", "source"],
+            )
+        return lidar
+
+    def _odometry_received(self, odom: Odometry) -> None:
+        """Laser odometry's estimate: kept, set as odom -> base_footprint, published."""
+        self.latest_odom = odom
+        self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=odom.stamp)
+        self._publish("odom", odom)
 
     # -- time ---------------------------------------------------------------------------
 
@@ -287,7 +326,7 @@ class Runtime:
         now_ns = self.clock.now_ns
         now = self.clock.now
 
-        if self._odometry_slot.due(now_ns):
+        if self._odometry_slot is not None and self._odometry_slot.due(now_ns):
             odom = self.odometry.update(now)
             self.latest_odom = odom
             self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=now)
@@ -313,7 +352,7 @@ class Runtime:
         t1 = perf_counter()
         spent["physics"] = spent.get("physics", 0.0) + (t1 - t0)
 
-        if self._odometry_slot.due(now_ns):
+        if self._odometry_slot is not None and self._odometry_slot.due(now_ns):
             t0 = perf_counter()
             odom = self.odometry.update(now)
             self.latest_odom = odom

@@ -22,6 +22,7 @@ import numpy as np
 from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model_validator
 
 from ..core.errors import BtnavWarning, WorldError
+from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import line_at, load_yaml, load_yaml_text
 
@@ -309,13 +310,31 @@ class LimitsSpec(StrictModel):
 Alpha = Annotated[float, BeforeValidator(_finite_number), Field(ge=0, le=10)]
 
 
+#: Where odom -> base_footprint comes from: the wheels (dead reckoning with `noise`) or
+#: the lidar (laser odometry, rf2o's role: scan matching, at the scan rate).
+ODOMETRY_SOURCES: tuple[str, ...] = ("wheels", "laser")
+
+
+def _odometry_source(v: Any) -> Any:
+    """A misspelt source names the closest one (a Literal's error would only list them)."""
+    if isinstance(v, str) and v not in ODOMETRY_SOURCES:
+        near = best_match(v, ODOMETRY_SOURCES)
+        hint = f"; did you mean '{near}'?" if near else ""
+        raise ValueError(f"unknown odometry source, expected 'wheels' or 'laser'{hint}")
+    return v
+
+
 class OdometrySpec(StrictModel):
-    """AMCL's differential-drive alphas, as variance per metre or radian of motion."""
+    """AMCL's differential-drive alphas, as variance per metre or radian of motion, and
+    the `source` of odom (`laser`: the wheels' noise and rate are then unused)."""
 
     noise: Annotated[
         tuple[Alpha, Alpha, Alpha, Alpha], _numbers(4, "noise is [alpha1, alpha2, alpha3, alpha4]")
     ] = (0.0, 0.0, 0.0, 0.0)
     rate: Real = Field(50.0, gt=0, le=10_000, description="odometry messages per second")
+    source: Annotated[Literal["wheels", "laser"], BeforeValidator(_odometry_source)] = Field(
+        "wheels", description="wheels: noisy dead reckoning; laser: scan matching (no wheels)"
+    )
 
 
 class RobotSpec(StrictModel):

@@ -16,9 +16,9 @@ candidate poses at once:
   passes (one sparse, one dense over the grid); where the occupied cells are few for
   the grid's area (open spaces) stamping the kernel per cell, as Karto does, is cheaper
   and is used instead. Both give Karto's grid cell for cell.
-- `CorrelationGrid.window_sums` is GetResponse for every translation of a lattice at
-  once: an `as_strided` view makes a point's grid values over all the translations one
-  contiguous block, so one fancy-index per angle gathers them all.
+- `CorrelationGrid.window_sums` is GetResponse for every translation of a lattice and
+  every angle at once: an `as_strided` view makes a point's grid values over all the
+  translations one block, so one fancy index gathers them all.
 
 Cells are indexed relative to the search centre (cell (0, 0) is centred on it, as Karto
 centres its grid on the scan pose); `data[0, 0]` is cell (`row0`, `col0`). The grid
@@ -56,6 +56,8 @@ _SMEAR_BAND = 64
 #: Cost of stamping one kernel cell (a scattered max) over one cell-pass of the
 #: separable smear (a streamed add or min): about 45 on x86-64 numpy 2.x.
 _STAMP_COST = 45
+#: Grid values gathered at once by `window_sums` (more spills out of cache).
+_GATHER_BYTES = 1 << 20
 #: Kernel cells stamped per block (bounds the index arrays to a few MB).
 _STAMP_BLOCK = 1 << 18
 
@@ -64,7 +66,8 @@ def karto_round(v: NDArray[np.float64] | float) -> NDArray[np.int64]:
     """Karto's math::Round (half away from zero) as integers: grid indices must round as
     Karto's do, not to even as np.round does."""
     a = np.asarray(v, dtype=float)
-    return np.where(a >= 0.0, np.floor(a + 0.5), np.ceil(a - 0.5)).astype(_I64)
+    # a + 0.5 (a - 0.5 below zero) truncated: floor(a + 0.5) or ceil(a - 0.5), one pass
+    return np.trunc(a + np.copysign(0.5, a)).astype(_I64)
 
 
 def half_kernel_size(smear_deviation: float, resolution: float) -> int:
@@ -177,7 +180,7 @@ class CorrelationGrid:
     col0: int
     core: tuple[int, int, int, int]  # row_lo, row_hi, col_lo, col_hi (inclusive) of non-zero cells
     pad: int  # zero cells around the core: lookup windows up to pad + 1 cells wide fit
-    _views: dict[tuple[int, int], list[NDArray[np.uint8]]] = field(
+    _views: dict[tuple[int, int], NDArray[np.uint8]] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
 
@@ -253,61 +256,79 @@ class CorrelationGrid:
         `rows`, `cols` (A, N): cell of each rotated point for the lattice's first
         translation; the lattice has `count` x `count` translations `stride` cells apart.
         Returns (A, count, count) sums of grid values (points off the grid count 0).
-        Loops over angles only: each angle gathers its points' blocks of grid values in
-        one fancy index per phase (see `_phase_views`) and sums them."""
+        One fancy index gathers the blocks of grid values of every point of a chunk of
+        angles from the phase sub-grids (see `_phase_blocks`) and one reduction sums the
+        points: a small lattice takes all angles at once, a large one an angle at a time
+        (the chunk's values stay in cache)."""
         n_angles, n_points = rows.shape
-        out = np.zeros((n_angles, count, count), dtype=_I64)
         if self.empty or n_points == 0:
-            return out
+            return np.zeros((n_angles, count, count), dtype=_I64)
         span = (count - 1) * stride
-        r_lo, r_hi, c_lo, c_hi = self.core
-        touches = (rows <= r_hi) & (rows + span >= r_lo) & (cols <= c_hi) & (cols + span >= c_lo)
         if span > self.pad:
             raise ValueError(f"CorrelationGrid: a window of {span + 1} cells needs pad >= {span}")
-        views = self._phase_views(count, stride)
-        r_all, c_all = rows - self.row0, cols - self.col0
+        r_lo, r_hi, c_lo, c_hi = self.core
+        touches = (rows <= r_hi) & (rows + span >= r_lo) & (cols <= c_hi) & (cols + span >= c_lo)
+        blocks = self._phase_blocks(count, stride)
+        r, c = rows - self.row0, cols - self.col0
+        phase = (r % stride) * stride + (c % stride)  # 0 everywhere for stride 1
+        # a point whose window misses the core reads the all-zero sub-grid at (0, 0)
+        zero = stride * stride
+        phase = np.where(touches, phase, zero).ravel()
+        r = np.where(touches, r // stride, 0).ravel()
+        c = np.where(touches, c // stride, 0).ravel()
         acc = np.uint16 if n_points * GRID_OCCUPIED <= np.iinfo(np.uint16).max else np.uint32
-        for a in range(n_angles):
-            sel = np.flatnonzero(touches[a])
-            if sel.size == 0:
-                continue
-            r, c = r_all[a, sel], c_all[a, sel]
-            if stride == 1:
-                out[a] = views[0][r, c].sum(axis=0, dtype=acc)
-                continue
-            phase = (r % stride) * stride + (c % stride)
-            total = np.zeros((count, count), dtype=acc)
-            for k, view in enumerate(views):
-                m = phase == k
-                if m.any():
-                    total += view[r[m] // stride, c[m] // stride].sum(axis=0, dtype=acc)
-            out[a] = total
-        return out
+        sums = np.empty((n_angles, count * count), dtype=acc)
+        # angles in chunks whose gathered values stay in cache
+        chunk = max(1, _GATHER_BYTES // (n_points * count * count))
+        for a in range(0, n_angles, chunk):
+            k = slice(a * n_points, min(a + chunk, n_angles) * n_points)
+            values = blocks[phase[k], r[k], c[k]].reshape(-1, n_points, count * count)
+            values.sum(axis=1, dtype=acc, out=sums[a : a + chunk])
+        return sums.reshape(n_angles, count, count).astype(_I64)
 
-    def _phase_views(self, count: int, stride: int) -> list[NDArray[np.uint8]]:
+    def _phase_blocks(self, count: int, stride: int) -> NDArray[np.uint8]:
         """For a lattice `stride` cells apart, the grid split by (row, col) phase into
-        stride^2 contiguous sub-grids, each viewed as (row, col, count, count) blocks:
-        a point's values over the whole lattice are then one contiguous block, which
-        numpy gathers far faster than a strided one."""
+        stride^2 sub-grids (plus one of zeros), stacked and viewed as (phase, row, col,
+        count, count) blocks: a point's values over the whole lattice are then one
+        block of one array, and all points of all angles are gathered in one index."""
         key = (count, stride)
         cached = self._views.get(key)
         if cached is not None:
             return cached
-        views = []
+        height, width = self.data.shape
+        if stride == 1 and self.pad > count - 1 and height >= count and width >= count:
+            # one phase: the grid itself, whose block at (0, 0) lies in the zero padding;
+            # viewed without a copy (phase index 0 or 1 reads the same array)
+            s0, s1 = self.data.strides
+            view = as_strided(
+                self.data,
+                shape=(2, height - count + 1, width - count + 1, count, count),
+                strides=(0, s0, s1, s0, s1),
+                writeable=False,
+            )
+            self._views[key] = view
+            return view
+        h2, w2 = -(-height // stride), -(-width // stride)
+        stack = np.zeros((stride * stride + 1, max(h2, count), max(w2, count)), np.uint8)
         for pr in range(stride):
             for pc in range(stride):
-                g = np.ascontiguousarray(self.data[pr::stride, pc::stride])
-                h, w = g.shape
-                views.append(
-                    as_strided(
-                        g,
-                        shape=(max(h - count + 1, 0), max(w - count + 1, 0), count, count),
-                        strides=(g.strides[0], g.strides[1], g.strides[0], g.strides[1]),
-                        writeable=False,
-                    )
-                )
-        self._views[key] = views
-        return views
+                sub = self.data[pr::stride, pc::stride]
+                stack[pr * stride + pc, : sub.shape[0], : sub.shape[1]] = sub
+        s0, s1, s2 = stack.strides
+        blocks = as_strided(
+            stack,
+            shape=(
+                stack.shape[0],
+                stack.shape[1] - count + 1,
+                stack.shape[2] - count + 1,
+                count,
+                count,
+            ),
+            strides=(s0, s1, s2, s1, s2),
+            writeable=False,
+        )
+        self._views[key] = blocks
+        return blocks
 
 
 def _smear_stamped(

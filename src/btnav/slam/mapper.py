@@ -134,6 +134,10 @@ class Mapper:
         self.loop_closures = 0
         #: Bumped whenever existing poses move (an optimisation): the map must be rebuilt.
         self.revision = 0
+        #: Bumped whenever any node pose changes; keys the barycenter cache.
+        self._pose_version = 0
+        self._bary_key: tuple[PoseGraph, int, int] | None = None
+        self._bary = np.zeros((0, 2))
 
     # -- views -------------------------------------------------------------------------------
 
@@ -149,11 +153,19 @@ class Mapper:
         )[:, :2]
 
     def barycenters(self) -> F64:
-        """(K, 2) every scan's barycenter in the map frame (Karto's reference positions)."""
+        """(K, 2) every scan's barycenter in the map frame (Karto's reference positions),
+        read-only; recomputed only after the poses change (a scan asks several times)."""
         if not self.scans:
             return np.zeros((0, 2))
-        c = np.array([s.centroid for s in self.scans])
-        return compose_arrays(self.graph.poses, np.column_stack([c, np.zeros(len(c))]))[:, :2]
+        key = (self.graph, self.graph.num_nodes, self._pose_version)
+        old = self._bary_key
+        if old is None or old[0] is not key[0] or old[1:] != key[1:]:
+            c = np.array([s.centroid for s in self.scans])
+            bary = compose_arrays(self.graph.poses, np.column_stack([c, np.zeros(len(c))]))
+            self._bary = bary[:, :2]
+            self._bary.flags.writeable = False
+            self._bary_key = key
+        return self._bary
 
     def _barycenter(self, pose: F64, scan: Scan) -> F64:
         return compose(pose, np.array([scan.centroid[0], scan.centroid[1], 0.0]))[:2]
@@ -265,6 +277,7 @@ class Mapper:
             poses = self.graph.poses.copy()
             poses[node] = weighted_mean(means, covs)
             self.graph.set_poses(poses)
+            self._pose_version += 1
 
     def _near_linked(self, node: int, max_distance: float) -> set[int]:
         """Karto's FindNearLinkedScans: breadth-first through the graph over scans whose
@@ -344,6 +357,7 @@ class Mapper:
                     self._set_pose(node, fine)
                     self._link_chain(chain, node, fine.pose, fine.covariance)
                     self.graph.optimize()
+                    self._pose_version += 1
                     self.loop_closures += 1
                     self.revision += 1
                     closed = True
@@ -354,3 +368,4 @@ class Mapper:
         poses = self.graph.poses.copy()
         poses[node] = match.pose
         self.graph.set_poses(poses)
+        self._pose_version += 1

@@ -59,6 +59,11 @@ _EXPANSIONS = 3
 _COVARIANCE_WINDOW = 0.1
 
 
+def _round(v: float) -> int:
+    """`karto_round` of one Python float, without numpy's per-call cost."""
+    return math.floor(v + 0.5) if v >= 0.0 else math.ceil(v - 0.5)
+
+
 @dataclass(frozen=True)
 class MatcherParams:
     """One matcher's slam_toolbox parameters (`correlation_search_space_*` for the
@@ -145,6 +150,9 @@ class _Search:
     centre: F64  # (3,) the search centre
     best: float
     mean: F64  # (3,) the mean of the tied best poses
+    sums: NDArray[np.int64]  # (A, T, T) unpenalised grid sums
+    first_cell: tuple[int, int]  # grid cell (row, col) of the lattice's first translation
+    stride: int  # cells between translations
 
 
 def scan_reference_pose(points_map: F64, pose: F64, use_scan_barycenter: bool) -> F64:
@@ -179,6 +187,7 @@ class ScanMatcher:
         *,
         penalize: bool = True,
         refine: bool = True,
+        grid: CorrelationGrid | None = None,
     ) -> MatchResult:
         """The pose of the robot that best lays `points` ((N, 2), robot frame) onto the
         `reference` scans ((Mi, 2) map-frame end points in beam order, with the (3,) pose
@@ -186,7 +195,11 @@ class ScanMatcher:
 
         Karto's matcher needs only the reference points (their order tells which way a
         surface faces); the poses ride along for the caller. Loop closure calls this
-        with penalize=False, refine=False (slam_toolbox's TryCloseLoop)."""
+        with penalize=False, refine=False (slam_toolbox's TryCloseLoop).
+
+        `grid`: a grid from `correlation_grid` to match many scans against the same
+        reference without rebuilding it (`reference` is then ignored); the search lattice
+        starts at the guess's cell of that grid instead of a grid centred on the guess."""
         p = self.params
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         g = np.asarray(guess, dtype=float).reshape(3)
@@ -196,23 +209,17 @@ class ScanMatcher:
             return MatchResult(g.copy(), cov, 0.0)
 
         res = p.search_space_resolution
-        # lookups stay within the coarse square (+1 for the fine search's centre, +1 for
-        # its window) plus the scan's farthest point, rounded up
-        far = float(np.sqrt((pts[:, 0] * pts[:, 0] + pts[:, 1] * pts[:, 1]).max()))
-        grid = CorrelationGrid.from_scans(
-            [np.asarray(s, dtype=float).reshape(-1, 2) for s, _ in reference],
-            g[:2],
-            g[:2],
-            resolution=res,
-            smear_deviation=p.smear_deviation,
-            roi_half_cells=self.roi_half_cells,
-            pad=max(2 * self.half_cells, 2),
-            reach_cells=self.half_cells + 3 + math.ceil(far / res),
-        )
+        if grid is None:
+            far = float(np.sqrt((pts[:, 0] * pts[:, 0] + pts[:, 1] * pts[:, 1]).max()))
+            grid = self.correlation_grid(reference, g[:2], g[:2], far)
+            centre_cell = (0, 0)
+        else:
+            row, col = (int(v) for v in grid.world_to_cell(g[:2]))
+            centre_cell = (row, col)
 
         # coarse: the whole search square at twice the resolution
         coarse = partial(
-            self._correlate, grid, pts, g, (0, 0), self.half_cells * res, 2.0 * res,
+            self._correlate, grid, pts, g, centre_cell, self.half_cells * res, 2.0 * res,
             angle_step=p.coarse_angle_resolution, penalize=penalize,
         )  # fmt: skip
         angle_offset = p.coarse_search_angle_offset
@@ -238,6 +245,31 @@ class ScanMatcher:
             mean, best = fine.mean, fine.best
         return MatchResult(mean, cov, min(best, 1.0))
 
+    def correlation_grid(
+        self,
+        reference: Sequence[tuple[F64, F64]],
+        viewpoint: F64,
+        centre: F64,
+        far: float,
+    ) -> CorrelationGrid:
+        """Karto's AddScans for this matcher: the reference scans' points that face
+        `viewpoint` ((2,) map frame), smeared on a grid whose cell (0, 0) is centred on
+        `centre`; it serves searches around guesses whose scan points lie within `far`
+        metres of the centre (lookups stay within the coarse square, +1 cell for the
+        fine search's centre and +1 for its window, plus that distance)."""
+        p = self.params
+        res = p.search_space_resolution
+        return CorrelationGrid.from_scans(
+            [np.asarray(s, dtype=float).reshape(-1, 2) for s, _ in reference],
+            np.asarray(viewpoint, dtype=float)[:2],
+            np.asarray(centre, dtype=float)[:2],
+            resolution=res,
+            smear_deviation=p.smear_deviation,
+            roi_half_cells=self.roi_half_cells,
+            pad=max(2 * self.half_cells, 2),
+            reach_cells=self.half_cells + 3 + math.ceil(far / res),
+        )
+
     # -- Karto's CorrelateScan ------------------------------------------------------
 
     def _correlate(
@@ -257,17 +289,17 @@ class ScanMatcher:
         `centre` (its grid cell `centre_cell`) and headings within `angle_offset`."""
         p = self.params
         res = p.search_space_resolution
-        count = int(karto_round(offset * 2.0 / step)) + 1
-        cells = int(karto_round(step / res))
-        first = int(karto_round(-offset / res))
+        count = _round(offset * 2.0 / step) + 1
+        cells = _round(step / res)
+        first = _round(-offset / res)
         xs = -offset + np.arange(count) * step
-        n_angles = int(karto_round(angle_offset * 2.0 / angle_step)) + 1
+        n_angles = _round(angle_offset * 2.0 / angle_step) + 1
         angles = (centre[2] - angle_offset) + np.arange(n_angles) * angle_step
 
-        rows, cols = self._point_cells(pts, angles)
-        sums = grid.window_sums(
-            rows + (centre_cell[0] + first), cols + (centre_cell[1] + first), count, cells
-        )
+        sin_a, cos_a = fmath.sincos(angles)
+        rows, cols = self._point_cells(pts, angles, (sin_a, cos_a))
+        first_cell = (centre_cell[0] + first, centre_cell[1] + first)
+        sums = grid.window_sums(rows + first_cell[0], cols + first_cell[1], count, cells)
         response = sums / float(pts.shape[0] * GRID_OCCUPIED)
         if penalize:
             sq = xs * xs
@@ -283,24 +315,36 @@ class ScanMatcher:
             response = np.where(response > KT_TOLERANCE, response * factor, response)
 
         best = float(response.max())
-        a_i, y_i, x_i = np.nonzero(response >= best - KT_TOLERANCE)
+        tied = np.flatnonzero(response.ravel() >= best - KT_TOLERANCE)
+        a_i, rest = np.divmod(tied, count * count)
+        y_i, x_i = np.divmod(rest, count)
         n = a_i.size
-        heading = normalize_angle(angles[a_i])
-        s, c = fmath.sincos(heading)
+        # sin and cos per heading once, then picked per tied pose (many tie at 0); the
+        # lookup's values serve when no heading needed wrapping (the same floats)
+        wrapped = normalize_angle(angles)
+        if np.array_equal(wrapped.view(np.int64), angles.view(np.int64)):
+            s_a, c_a = sin_a, cos_a
+        else:
+            s_a, c_a = fmath.sincos(wrapped)
         mean = np.array(
             [
                 (centre[0] + xs[x_i]).sum() / n,
                 (centre[1] + xs[y_i]).sum() / n,
-                float(fmath.arctan2(s.sum() / n, c.sum() / n)),
+                float(fmath.arctan2(s_a[a_i].sum() / n, c_a[a_i].sum() / n)),
             ]
         )
         mean[2] = normalize_angle(float(mean[2]))
-        return _Search(response, xs, xs, angles, np.asarray(centre, dtype=float), best, mean)
+        return _Search(
+            response, xs, xs, angles, np.asarray(centre, dtype=float), best, mean,
+            sums, first_cell, cells,
+        )  # fmt: skip
 
-    def _point_cells(self, pts: F64, angles: F64) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    def _point_cells(
+        self, pts: F64, angles: F64, sincos: tuple[F64, F64] | None = None
+    ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
         """(A, N) cell offsets of the points rotated to each heading (Karto's
-        GridIndexLookup::ComputeOffsets)."""
-        s, c = fmath.sincos(angles)
+        GridIndexLookup::ComputeOffsets); `sincos`: the headings' sin and cos if known."""
+        s, c = fmath.sincos(angles) if sincos is None else sincos
         x, y = pts[:, 0][None, :], pts[:, 1][None, :]
         c, s = c[:, None], s[:, None]
         inv = 1.0 / self.params.search_space_resolution
@@ -349,9 +393,15 @@ class ScanMatcher:
         (unpenalised, at the best pose's cell) that are near the best."""
         p = self.params
         angle_step = p.fine_search_angle_offset
-        cell = grid.world_to_cell(fine.mean[:2])
-        rows, cols = self._point_cells(pts, fine.angles)
-        sums = grid.window_sums(rows + int(cell[0]), cols + int(cell[1]), 1, 1)[:, 0, 0]
+        row, col = (int(v) for v in grid.world_to_cell(fine.mean[:2]))
+        iy, ry = divmod(row - fine.first_cell[0], fine.stride)
+        ix, rx = divmod(col - fine.first_cell[1], fine.stride)
+        count = fine.sums.shape[1]
+        if ry == 0 and rx == 0 and 0 <= iy < count and 0 <= ix < count:
+            sums = fine.sums[:, iy, ix]  # that cell was a translation of the fine search
+        else:
+            rows, cols = self._point_cells(pts, fine.angles)
+            sums = grid.window_sums(rows + row, cols + col, 1, 1)[:, 0, 0]
         response = sums / float(pts.shape[0] * GRID_OCCUPIED)
         centre_heading = float(fine.centre[2])
         best_angle = centre_heading + normalize_angle(fine.mean[2] - centre_heading)
