@@ -18,6 +18,12 @@ more run with the runtime's profiling hook on (`runtime.profile = {}`): physics,
 odometry, lidar, local and global costmap (scan intake included), planner (and
 smoother), controller, behaviours, tree (bt_navigator and waypoint follower) and
 other (localiser, scheduler, the loop). numpy runs single-threaded: one core.
+
+The tree's own cost, from the same profiled run: the median wall time of one tick of
+NavigateToPose's tree (`root.tick_once()`, every 10 ms of sim time; target 10 us) and
+the tree's share of wall time (target 8 %), with the part of that share spent in the
+ticks themselves (the rest is bt_navigator around them: feedback, the goal, the
+waypoint follower).
 """
 
 from __future__ import annotations
@@ -28,11 +34,13 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUME
     os.environ[_var] = "1"
 
 import argparse  # noqa: E402
+import statistics  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
 from dataclasses import dataclass, field  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
@@ -47,6 +55,9 @@ MAP = REPO / "maps" / "small_office.yaml"
 TOUR = [(3.0, 2.0, 1.57), (6.0, 3.0, 0.0), (9.0, 1.5, 0.0), (2.5, 6.5, 3.14)]
 TIMEOUT = 600.0
 TARGETS = {"mppi": 5.0, "rpp": 100.0}
+#: The tree's targets (issue 16): a tick's median wall time (s), the tree's share of wall time.
+TICK_TARGET = 10e-6
+TREE_SHARE_TARGET = 0.08
 
 #: The shares printed, in this order; a profile label goes to the first whose test holds.
 COMPONENTS = [
@@ -80,6 +91,8 @@ class Tour:
     wall: float
     collisions: int
     profile: dict[str, float] = field(default_factory=dict)
+    #: Wall seconds of each tick of NavigateToPose's tree (profiled runs only).
+    ticks: list[float] = field(default_factory=list)
 
     @property
     def rtf(self) -> float:
@@ -91,16 +104,32 @@ def run_tour(params: Path, *, profile: bool = False) -> Tour:
     nav = Navigator.from_files(WORLD, params, MAP, seed=0)
     # Nav2's bt_navigator loads its default tree when it is configured, before any goal:
     # so does the bring-up here (outside the timing, as the rest of the bring-up is).
-    nav.bt_navigator.navigators["navigate_to_pose"].load()
+    navigator = nav.bt_navigator.navigators["navigate_to_pose"]
+    navigator.load()
+    ticks: list[float] = []
     if profile:
         nav.runtime.profile = {}
+        _time_ticks(navigator.root, ticks)
     t0, w0 = nav.now, time.perf_counter()
     nav.follow_waypoints(TOUR)
     result = nav.wait_until_done(TIMEOUT)
     wall = time.perf_counter() - w0
     outcome = "timed out" if result is None else str(result.outcome)
     spent = dict(nav.runtime.profile or {})
-    return Tour(outcome, nav.now - t0, wall, nav.world.collisions, spent)
+    return Tour(outcome, nav.now - t0, wall, nav.world.collisions, spent, ticks)
+
+
+def _time_ticks(root: Any, out: list[float]) -> None:
+    """Append the wall time of each `root.tick_once()` (what bt_navigator calls) to `out`."""
+    tick = root.tick_once
+    clock = time.perf_counter
+
+    def timed() -> None:
+        t = clock()
+        tick()
+        out.append(clock() - t)
+
+    root.tick_once = timed
 
 
 def shares(tour: Tour) -> list[tuple[str, float]]:
@@ -148,7 +177,27 @@ def bench(controller: str, runs: int, tmp: Path) -> float:
             f"    {name:<15s} {100 * seconds / prof.wall:5.1f} %"
             f"   {1e3 * seconds / prof.sim:7.3f} ms per sim s"
         )
+    tree_tick(prof)
     return ratio
+
+
+def tree_tick(prof: Tour) -> None:
+    """The tree's lines: a tick's median wall time, and the tree's share against targets."""
+    if not prof.ticks:
+        return
+    median = statistics.median(prof.ticks)
+    tree = dict(shares(prof))["tree"] / prof.wall
+    in_ticks = sum(prof.ticks) / prof.wall
+    print(
+        f"  tree tick: median {1e6 * median:6.2f} us over {len(prof.ticks)} ticks"
+        f"   target {1e6 * TICK_TARGET:4.0f} us"
+        f"   {'ok' if median <= TICK_TARGET else 'ABOVE TARGET'}"
+    )
+    print(
+        f"  tree share: {100 * tree:5.1f} % ({100 * in_ticks:.1f} % in the ticks)"
+        f"   target {100 * TREE_SHARE_TARGET:4.0f} %"
+        f"   {'ok' if tree <= TREE_SHARE_TARGET else 'ABOVE TARGET'}"
+    )
 
 
 def profile_tour(controller: str, tmp: Path) -> None:

@@ -10,7 +10,6 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from btnav.bt import ControlNode, DecoratorNode, LeafNode
-from btnav.bt.base import TickGen
 
 PORT_TAGS = {
     "input_port": "in",
@@ -41,13 +40,13 @@ class _StubLeaf(LeafNode):
 
 
 class _StubDecorator(DecoratorNode):
-    def tick_decorated(self) -> TickGen:
-        return (yield from self.tick_child())
+    def tick_decorated(self) -> Status:
+        return self.tick_child()
 
 
 class _StubControl(ControlNode):
-    def tick_children(self) -> TickGen:
-        return (yield from self.tick_child(self.children[0]))
+    def tick_children(self) -> Status:
+        return self.tick_child(self.children[0])
 
 
 def stub_class(node_id: str, spec: dict[str, Any]) -> type:

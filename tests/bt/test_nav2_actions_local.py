@@ -38,6 +38,22 @@ def test_planner_selector_uses_the_default_until_a_selection_arrives():
     assert tick() == S and bb("p") == "SmacHybrid"
 
 
+def test_a_selector_reads_its_topic_when_a_run_starts_as_nav2s_initialize_does():
+    rt = FakeRuntime()
+    tick = ticker(
+        '<ControllerSelector selected_controller="{c}" default_controller="FollowPath" '
+        'topic_name="{topic}"/>',
+        rt,
+    )
+    set_bb("topic", "first")
+    assert tick() == S
+    set_bb("topic", "second")
+    assert tick() == S and list(rt.subscribers) == ["first"]  # mid-run: the same topic
+    tick.root.stop(Status.INVALID)  # a new run (Nav2: the node is not active)
+    assert tick() == S and list(rt.subscribers) == ["first", "second"]
+    assert len(rt.subscribers["first"]) == 1
+
+
 def test_a_selector_without_default_or_selection_fails():
     assert ticker('<ControllerSelector selected_controller="{c}"/>')() == F
 

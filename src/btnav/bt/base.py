@@ -1,106 +1,112 @@
-"""Base classes of btnav's tree nodes: py_trees behaviours with BT.CPP's tick and halt.
+"""btnav's tick engine: BehaviorTree.CPP's semantics as plain calls, on py_trees' types.
 
-py_trees and BehaviorTree.CPP differ in a few places that Nav2's trees rely on;
-these bases make btnav's nodes behave as BT.CPP's do:
+Where py_trees ends and btnav begins:
 
-* **Halt** is py_trees' `stop(Status.INVALID)`. As in BT.CPP's `haltChild`, a node's
-  own halt logic (`reset_state`, e.g. RecoveryNode's retry count) runs only when it
-  was RUNNING; stopping a node that already finished just returns it to idle. So a
+* **py_trees gives the types and the tools**: every node is a py_trees `Behaviour`
+  (a `Composite`, a `Decorator` or a leaf) with py_trees' `Status`, `name`, `children`,
+  `parent`, `initialise`/`update`/`terminate` hooks and `stop()`; its ports are
+  `PortsMixin` declarations (see `ports`); trees are built by py_trees' XML parser and
+  drawn, iterated, visited and snapshotted by py_trees' display, visitors and
+  `BehaviourTree`.
+* **btnav ticks them**: a node's tick is one plain call, `execute_tick() -> Status`
+  (BT.CPP's `executeTick`), with no generators on the way down; `status` is a plain
+  attribute; ports are bound to their blackboard keys when the tree is built.
+  `tick_once()` is `execute_tick()`. py_trees' generator `tick()` still works (for
+  `py_trees.trees.BehaviourTree` and its visitors): it runs the same plain tick, then
+  yields the nodes it ticked in the order py_trees would.
+
+The semantics are BT.CPP's where Nav2's trees rely on them:
+
+* **Halt** is `stop(Status.INVALID)`. As in BT.CPP's `haltChild`, a node's own halt
+  logic (`reset_state`, e.g. RecoveryNode's retry count) runs only when it was
+  RUNNING; stopping a node that already finished just returns it to idle. So a
   RoundRobin that succeeded keeps its place when its parent resets it.
 * A control or decorator **keeps its state across ticks** and resets it only where
-  BT.CPP does (on completion or halt), never in `initialise()` merely because the
-  node was not RUNNING.
+  BT.CPP does (on completion or halt), never because the node was not RUNNING.
 * **SKIPPED** (BT.CPP v4) has no py_trees status: a node that would return SKIPPED
-  returns SUCCESS with `skipped = True`, and btnav's controls pass over such a child
-  as BT.CPP's do.
+  returns SUCCESS with `skipped = True`, and btnav's controls pass over such a child.
 * **Time** is sim time: nodes that wait read `clock.now` from the clock the loader
   injects (never the wall clock).
+
+A control writes `tick_children() -> Status` and a decorator `tick_decorated() ->
+Status`, calling `self.tick_child(...)` (which returns the child's new status); a leaf
+writes `update()` as in py_trees.
 """
 
 from __future__ import annotations
 
-import copy
-from collections.abc import Callable, Generator, Sequence
-from types import UnionType
-from typing import Any, ClassVar, Union, get_args, get_origin
+import functools
+import inspect
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any, ClassVar
 
 import py_trees
+import py_trees.logging as _pt_logging
 from py_trees.behaviour import Behaviour
-from py_trees.blackboard import Blackboard
 from py_trees.common import Status
-from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin
-from py_trees.ports_utils import is_instance_of_type
 
-TickGen = Generator[Behaviour, None, Status]
+from .ports import BoundPortsMixin, PortInformation, input_port, output_port
 
-_MISSING = object()
+__all__ = [
+    "TIME_EPS",
+    "ControlNode",
+    "DecoratorNode",
+    "F",
+    "LeafNode",
+    "R",
+    "S",
+    "halt",
+    "input_port",
+    "is_skipped",
+    "output_port",
+]
+
 _STATUSES = frozenset(Status)
-_INFO = py_trees.logging.Level.INFO
-#: Port defaults returned as they are (py_trees deep-copies a default; these need not be).
-_IMMUTABLE = frozenset({str, int, float, bool, bytes})
+_INFO = _pt_logging.Level.INFO
+_INVALID = Status.INVALID
 
 #: Tolerance for comparing sim times (the clock counts integer nanoseconds).
 TIME_EPS = 1e-9
-
 
 #: BT.CPP's NodeStatus, as every node file spells them.
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
 
 
-def input_port(data_type: Any, description: str = "", default: Any = None) -> PortInformation:
-    """BT.CPP's `InputPort<T>(name, default, description)` for a node's ports table."""
-    return PortInformation(
-        data_type, required=False, description=description, default_value=default
-    )
-
-
-def output_port(data_type: Any, description: str = "") -> PortInformation:
-    """BT.CPP's `OutputPort<T>(name, description)`."""
-    return PortInformation(data_type, required=False, description=description)
-
-
-def _plain_types(data_type: Any) -> tuple[type, ...] | None:
-    """The classes `isinstance` can check a port's type with, or None for other types
-    (generics such as `list[Pose2D]`), which py_trees' own check handles."""
-    if isinstance(data_type, type) and get_origin(data_type) is None:
-        return (data_type,)
-    if get_origin(data_type) in (Union, UnionType):
-        args = get_args(data_type)
-        if all(isinstance(a, type) and get_origin(a) is None for a in args):
-            return tuple(args)
-    return None
-
-
-class _PortSlot:
-    """One port of one node, resolved once: its blackboard storage key and type check."""
-
-    __slots__ = ("info", "key", "types")
-
-    def __init__(self, key: str, info: PortInformation) -> None:
-        self.key = key
-        self.info = info
-        self.types = _plain_types(info.data_type)
-
-    def type_ok(self, value: Any) -> bool:
-        types = self.types
-        if types is not None:
-            return isinstance(value, types)
-        return is_instance_of_type(value, self.info.data_type)
-
-
 def halt(node: Behaviour) -> None:
     """BT.CPP's haltChild/resetChild: halt a RUNNING node, return any node to idle."""
-    if node.status != Status.INVALID:
-        node.stop(Status.INVALID)
+    if node.status is not _INVALID:
+        node.stop(_INVALID)
 
 
 def is_skipped(node: Behaviour) -> bool:
     """Whether the node's last tick meant BT.CPP's SKIPPED."""
-    return node.status == Status.SUCCESS and bool(getattr(node, "skipped", False))
+    return node.status is S and bool(getattr(node, "skipped", False))
 
 
-class _BtNode(PortsMixin):
-    """What every btnav node shares: ports, injected dependencies, sim time."""
+def _tick_foreign(node: Behaviour) -> Status:
+    """A plain py_trees behaviour (not a btnav node) ticked through its own generator."""
+    for _ in node.tick():
+        pass
+    return node.status
+
+
+def adopt(child: Behaviour) -> None:
+    """Give a plain py_trees child the `execute_tick()` btnav's parents call."""
+    if not hasattr(child, "execute_tick"):
+        child.execute_tick = functools.partial(_tick_foreign, child)  # type: ignore[attr-defined]
+
+
+def _recording(tick: Callable[[], Status], node: Behaviour, out: list[Behaviour]) -> Any:
+    def record() -> Status:
+        status = tick()
+        out.append(node)
+        return status
+
+    return record
+
+
+class _BtNode(BoundPortsMixin):
+    """What every btnav node shares: the tick protocol, ports, injected dependencies, sim time."""
 
     INPUT_PORTS: ClassVar[dict[str, PortInformation]] = {}
     OUTPUT_PORTS: ClassVar[dict[str, PortInformation]] = {}
@@ -111,105 +117,77 @@ class _BtNode(PortsMixin):
     #: How many children the node takes: (min, max); max None = unbounded.
     CHILDREN: ClassVar[tuple[int, int | None]] = (0, 0)
 
+    status: Status = _INVALID
     skipped: bool = False
+    _INITIALISES: ClassVar[bool] = False
+    _TERMINATES: ClassVar[bool] = False
+    _OWN_STOP: ClassVar[bool] = False
     clock: Any = None
     #: Called as `status_listener(node, old, new)` on every change of this node's status,
     #: even one undone within the same tick (a tick log sets it; None: nobody listens).
     status_listener: Callable[[Any, Status, Status], None] | None = None
 
-    @property
-    def status(self) -> Status:
-        return self.__dict__.get("_status", Status.INVALID)
-
-    @status.setter
-    def status(self, new: Status) -> None:
-        d = self.__dict__
-        old = d.get("_status", Status.INVALID)
-        d["_status"] = new
-        if new is not old and self.status_listener is not None:
-            self.status_listener(self, old, new)
-
     def __init_subclass__(cls, *, register: bool = False, **kwargs: Any) -> None:
         # btnav's registry (the bt_node plugin kind) is the one that names node types;
         # py_trees' global auto-registry is left to the user's own classes.
         super().__init_subclass__(register=register, **kwargs)
+        # py_trees' hooks are called only where a class has them (most nodes do not):
+        cls._INITIALISES = cls.initialise is not Behaviour.initialise
+        cls._TERMINATES = cls.terminate is not Behaviour.terminate
+        cls._OWN_STOP = cls.stop is not _BtNode.stop
+        for hook in ("tick_children", "tick_decorated"):
+            if inspect.isgeneratorfunction(cls.__dict__.get(hook)):
+                raise TypeError(
+                    f"{cls.__name__}.{hook} is a generator: btnav ticks with plain calls; "
+                    f"return the status instead (`status = self.tick_child(...)`, no yield)"
+                )
 
-    def optional(self, name: str) -> Any:
-        """An input port's value, or None when it has no data and no default (BT.CPP's
-        `getInput` returning false); `get_input` raises instead."""
+    # -- the tick ---------------------------------------------------------------------------
+
+    def execute_tick(self) -> Status:
+        """BT.CPP's `executeTick`: tick this node once; its new status."""
+        raise NotImplementedError
+
+    def set_status(self, new: Status) -> None:
+        """Every status change goes through here, so a tick log sees each one."""
+        old = self.status
+        self.status = new
+        if new is not old and self.status_listener is not None:
+            self.status_listener(self, old, new)
+
+    def tick_once(self) -> None:
+        """py_trees' `tick_once`, without generators."""
+        self.execute_tick()
+
+    def tick(self) -> Iterator[Behaviour]:
+        """py_trees' generator tick, for `py_trees.trees.BehaviourTree` and its visitors: the
+        plain tick runs, then each node it ticked is yielded, after its own tick, in the
+        order py_trees yields them (visitors see the statuses the tick ended with)."""
+        ticked: list[Behaviour] = []
+        nodes = list(self.iterate())
+        saved = [node.__dict__.get("execute_tick") for node in nodes]
+        for node in nodes:
+            node.execute_tick = _recording(node.execute_tick, node, ticked)  # type: ignore[attr-defined]
         try:
-            return self.get_input(name)
-        except NoDataAvailable:
-            return None
+            self.execute_tick()
+        finally:
+            for node, before in zip(nodes, saved, strict=True):
+                if before is None:
+                    del node.execute_tick  # type: ignore[attr-defined]
+                else:
+                    node.execute_tick = before  # type: ignore[attr-defined]
+        yield from ticked
 
-    # -- ports: py_trees' get_input/_set_output, with the key resolved once -----------------
-    #
-    # py_trees resolves a port's blackboard key (namespace, registration, remapping) and
-    # checks its type generically on every read and write; a tree ticking at 100 Hz does
-    # that tens of thousands of times a minute. A node resolves each port once per
-    # blackboard client (setup_ports makes a new one) and reads the storage directly;
-    # the results, errors and type checks are py_trees' own. With the blackboard's
-    # activity stream on, py_trees' path runs so every access is still recorded.
+    def stop(self, new_status: Status = _INVALID) -> None:
+        """py_trees' `stop`: `terminate`, then the new status (a halt with INVALID)."""
+        if _pt_logging.level < _INFO:
+            self.logger.debug(f"{type(self).__name__}.stop({self.status}->{new_status})")
+        if self._TERMINATES:
+            self.terminate(new_status)
+        if new_status is not self.status:
+            self.set_status(new_status)
 
-    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
-        super().setup_ports(*args, **kwargs)
-        # a new blackboard client: its ports are resolved anew
-        self.__dict__["_btnav_ports"] = ({}, {})
-
-    def _slot(self, port_name: str, outputs: bool) -> _PortSlot | None:
-        """The port's slot, or None when py_trees' path must run (undeclared, unregistered,
-        a nested name, or an output the client may not write)."""
-        cache = self.__dict__.get("_btnav_ports")
-        if cache is None:
-            cache = self.__dict__["_btnav_ports"] = ({}, {})
-        slots = cache[outputs]
-        slot = slots.get(port_name, _MISSING)
-        if slot is not _MISSING:
-            return slot
-        slot = None
-        ports = self.output_ports() if outputs else self.input_ports()
-        client = self._blackboard_client
-        if port_name in ports and client is not None and "." not in port_name:
-            absolute = Blackboard.absolute_name(client.namespace, port_name)
-            access = client.write | client.exclusive if outputs else None
-            registered = (
-                absolute in access if access is not None else client.is_registered(port_name)
-            )
-            key = client.remappings.get(absolute) if registered else None
-            if key is not None:
-                slot = _PortSlot(key, ports[port_name])
-        if client is not None:  # before setup_ports, nothing is cached
-            slots[port_name] = slot
-        return slot
-
-    def get_input(self, port_name: str, default: Any = None) -> Any:
-        if Blackboard.activity_stream is None:
-            slot = self._slot(port_name, False)
-            if slot is not None:
-                value = Blackboard.storage.get(slot.key, _MISSING)
-                if value is _MISSING:
-                    if default is not None:
-                        return default
-                    info = slot.info
-                    if info.has_default:
-                        dv = info.default_value
-                        return dv if type(dv) in _IMMUTABLE else copy.deepcopy(dv)
-                    raise NoDataAvailable(
-                        f"{self.name}: Input port '{port_name}' (mapped to "
-                        f"'{slot.key}') has no data available."
-                    )
-                if value is not None and slot.type_ok(value):
-                    return value
-        # Unset, None or the wrong type: py_trees' path (defaults, errors).
-        return super().get_input(port_name, default)
-
-    def _set_output(self, port_name: str, value: Any) -> None:
-        if Blackboard.activity_stream is None:
-            slot = self._slot(port_name, True)
-            if slot is not None and slot.type_ok(value):
-                Blackboard.storage[slot.key] = value
-                return
-        super()._set_output(port_name, value)
+    # -- state and time ---------------------------------------------------------------------
 
     def now(self) -> float:
         """Sim time in seconds, from the clock given to the loader."""
@@ -225,7 +203,7 @@ class _BtNode(PortsMixin):
 
 
 class ControlNode(_BtNode, py_trees.composites.Composite):
-    """A composite with BT.CPP semantics; subclasses write `tick_children()`."""
+    """A composite with BT.CPP semantics; subclasses write `tick_children() -> Status`."""
 
     CHILDREN: ClassVar[tuple[int, int | None]] = (1, None)
     #: For subclasses that are also py_trees Sequences/Selectors (so py_trees' displays
@@ -240,30 +218,37 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         super().__init__(name=name, children=children, **kwargs)
         self.reset_state()
 
-    def tick(self) -> Generator[Behaviour, None, None]:
-        if self.status != Status.RUNNING:
+    # py_trees adds children through these three; a plain py_trees child is adopted.
+    def add_child(self, child: Behaviour) -> Any:
+        adopt(child)
+        return super().add_child(child)
+
+    def insert_child(self, child: Behaviour, index: int) -> Any:
+        adopt(child)
+        return super().insert_child(child, index)
+
+    def prepend_child(self, child: Behaviour) -> Any:
+        adopt(child)
+        return super().prepend_child(child)
+
+    def execute_tick(self) -> Status:
+        if self._INITIALISES and self.status is not R:
             self.initialise()
         self.skipped = False
-        status = yield from self.tick_children()
-        if status == Status.RUNNING:
-            self.status = status
-        else:
+        status = self.tick_children()
+        if status is not R:
             self.stop(status)
-        yield self
+        elif self.status is not R:
+            self.set_status(R)
+        return status
 
-    def tick_children(self) -> TickGen:
+    def tick_children(self) -> Status:
         raise NotImplementedError
-        yield  # pragma: no cover
 
-    def tick_child(self, child: Behaviour) -> TickGen:
-        """Tick one child (yielding what py_trees' visitors expect); its new status."""
+    def tick_child(self, child: Behaviour) -> Status:
+        """Tick one child; its new status."""
         self.current_child = child
-        if type(child).tick is LeafNode.tick:  # a leaf: ticked here, yielded as it yields
-            child.tick_now()  # type: ignore[attr-defined]
-            yield child
-        else:
-            yield from child.tick()
-        return child.status
+        return child.execute_tick()  # type: ignore[attr-defined]
 
     def halt_child(self, index: int) -> None:
         halt(self.children[index])
@@ -283,18 +268,28 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         self.halt_children()
         self.reset_state()
 
-    def stop(self, new_status: Status = Status.INVALID) -> None:
-        if new_status == Status.INVALID and self.status == Status.RUNNING:
-            self.reset_state()
-        if new_status != Status.INVALID:
+    def stop(self, new_status: Status = _INVALID) -> None:
+        """py_trees' Composite.stop with BT.CPP's halt: a halt (INVALID) resets a RUNNING
+        node's state and returns every child to idle; a result stops RUNNING children."""
+        if new_status is _INVALID:
+            if self.status is R:
+                self.reset_state()
+            self.current_child = None
             for child in self.children:
-                if child.status == Status.RUNNING:
-                    child.stop(Status.INVALID)
-        super().stop(new_status)
+                if child.status is not _INVALID:
+                    child.stop(_INVALID)
+        else:
+            for child in self.children:
+                if child.status is R:
+                    child.stop(_INVALID)
+        if self._TERMINATES:
+            self.terminate(new_status)
+        if new_status is not self.status:
+            self.set_status(new_status)
 
 
 class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
-    """A decorator with BT.CPP semantics; subclasses write `tick_decorated()`.
+    """A decorator with BT.CPP semantics; subclasses write `tick_decorated() -> Status`.
 
     Unlike py_trees' decorators, a btnav decorator decides whether to tick its
     child at all (Delay, RateController and Timeout sometimes do not).
@@ -303,77 +298,76 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
     CHILDREN: ClassVar[tuple[int, int | None]] = (1, 1)
 
     def __init__(self, name: str, child: Behaviour, **kwargs: Any):
+        adopt(child)
         super().__init__(name=name, child=child, **kwargs)
         self.reset_state()
 
-    def tick(self) -> Generator[Behaviour, None, None]:
-        if self.status != Status.RUNNING:
+    def execute_tick(self) -> Status:
+        if self._INITIALISES and self.status is not R:
             self.initialise()
         self.skipped = False
-        status = yield from self.tick_decorated()
-        if status == Status.RUNNING:
-            self.status = status
-        else:
+        status = self.tick_decorated()
+        if status is not R:
             self.stop(status)
-        yield self
+        elif self.status is not R:
+            self.set_status(R)
+        return status
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         raise NotImplementedError
-        yield  # pragma: no cover
 
-    def tick_child(self) -> TickGen:
-        child = self.decorated
-        if type(child).tick is LeafNode.tick:  # as ControlNode.tick_child
-            child.tick_now()  # type: ignore[attr-defined]
-            yield child
-        else:
-            yield from child.tick()
-        return child.status
+    def tick_child(self) -> Status:
+        """Tick the decorated child; its new status."""
+        return self.decorated.execute_tick()  # type: ignore[attr-defined]
 
-    def update(self) -> Status:  # unused: tick() does the work
+    def update(self) -> Status:  # unused: execute_tick() does the work
         return self.status
 
-    def stop(self, new_status: Status = Status.INVALID) -> None:
-        if new_status == Status.INVALID and self.status == Status.RUNNING:
+    def stop(self, new_status: Status = _INVALID) -> None:
+        """py_trees' Decorator.stop with BT.CPP's halt (a RUNNING node's state is reset)."""
+        if new_status is _INVALID and self.status is R:
             self.reset_state()
-        super().stop(new_status)
+        if self._TERMINATES:
+            self.terminate(new_status)
+        child = self.decorated
+        if new_status is _INVALID:
+            child.stop(_INVALID)
+        if child.status is R:
+            child.stop(_INVALID)
+        if new_status is not self.status:
+            self.set_status(new_status)
 
 
 class LeafNode(_BtNode, Behaviour):
     """A leaf (action or condition) with ports; subclasses write `update()`."""
 
-    # py_trees' Behaviour.tick and stop, step for step, except that their debug messages
-    # are only formatted when py_trees logs at DEBUG (leaves are most of a tree's ticks).
-
-    def tick(self) -> Generator[Behaviour, None, None]:
-        self.tick_now()
-        yield self
-
-    def tick_now(self) -> None:
-        """What `tick()` does before it yields: a parent ticking a leaf calls this and
-        yields the leaf itself (one generator less per leaf and tick)."""
-        if py_trees.logging.level < _INFO:
-            self.logger.debug(f"{self.__class__.__name__}.tick()")
-        if self.status != Status.RUNNING:
+    def execute_tick(self) -> Status:
+        """py_trees' Behaviour.tick, step for step, as one call (its debug message only
+        formatted when py_trees logs at DEBUG: leaves are most of a tree's ticks)."""
+        debug = _pt_logging.level < _INFO
+        if debug:
+            self.logger.debug(f"{type(self).__name__}.tick()")
+        if self._INITIALISES and self.status is not R:
             self.initialise()
         new_status = self.update()
-        if new_status not in _STATUSES:
+        if new_status is R:
+            if self.status is not R:
+                self.set_status(R)
+            return R
+        if new_status is not S and new_status is not F and new_status not in _STATUSES:
             self.logger.error(
                 "A behaviour returned an invalid status, setting to INVALID "
                 f"[{new_status}][{self.name}]"
             )
-            new_status = Status.INVALID
-        if new_status != Status.RUNNING:
+            new_status = _INVALID
+        if self._OWN_STOP or debug:
             self.stop(new_status)
-        self.status = new_status
-
-    def stop(self, new_status: Status) -> None:
-        if py_trees.logging.level < _INFO:
-            change = f"{self.status}->{new_status}" if self.status != new_status else new_status
-            self.logger.debug(f"{self.__class__.__name__}.stop({change})")
-        self.terminate(new_status)
-        self.status = new_status
-        self.iterator = self.tick()
+        else:  # _BtNode.stop, inline
+            if self._TERMINATES:
+                self.terminate(new_status)
+            if new_status is not self.status:
+                self.set_status(new_status)
+        return new_status
 
     def update(self) -> Status:
         raise NotImplementedError

@@ -15,15 +15,15 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, F, R, S, TickGen, halt
+from .base import TIME_EPS, DecoratorNode, F, R, S, halt
 
 
 @register("bt_node", "Inverter")
 class Inverter(DecoratorNode):
     """SUCCESS <-> FAILURE; RUNNING stays RUNNING."""
 
-    def tick_decorated(self) -> TickGen:
-        status = yield from self.tick_child()
+    def tick_decorated(self) -> Status:
+        status = self.tick_child()
         if status == R:
             return R
         halt(self.decorated)
@@ -34,8 +34,8 @@ class Inverter(DecoratorNode):
 class ForceSuccess(DecoratorNode):
     """SUCCESS once the child finishes, whatever it returned."""
 
-    def tick_decorated(self) -> TickGen:
-        status = yield from self.tick_child()
+    def tick_decorated(self) -> Status:
+        status = self.tick_child()
         if status == R:
             return R
         halt(self.decorated)
@@ -46,8 +46,8 @@ class ForceSuccess(DecoratorNode):
 class ForceFailure(DecoratorNode):
     """FAILURE once the child finishes, whatever it returned."""
 
-    def tick_decorated(self) -> TickGen:
-        status = yield from self.tick_child()
+    def tick_decorated(self) -> Status:
+        status = self.tick_child()
         if status == R:
             return R
         halt(self.decorated)
@@ -67,10 +67,10 @@ class Repeat(DecoratorNode):
     def reset_state(self) -> None:
         self.repeat_count = 0
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         cycles = self.get_input("num_cycles")
         while cycles == -1 or self.repeat_count < cycles:
-            status = yield from self.tick_child()
+            status = self.tick_child()
             if status == R:
                 return R
             halt(self.decorated)
@@ -97,10 +97,10 @@ class RetryUntilSuccessful(DecoratorNode):
     def reset_state(self) -> None:
         self.try_count = 0
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         attempts = self.get_input("num_attempts")
         while attempts == -1 or self.try_count < attempts:
-            status = yield from self.tick_child()
+            status = self.tick_child()
             if status == R:
                 return R
             halt(self.decorated)
@@ -118,8 +118,8 @@ class RetryUntilSuccessful(DecoratorNode):
 class KeepRunningUntilFailure(DecoratorNode):
     """RUNNING (restarting the child) while it succeeds; FAILURE when it fails."""
 
-    def tick_decorated(self) -> TickGen:
-        status = yield from self.tick_child()
+    def tick_decorated(self) -> Status:
+        status = self.tick_child()
         if status == R:
             return R
         halt(self.decorated)
@@ -147,12 +147,12 @@ class Delay(_TimedDecorator):
     def reset_state(self) -> None:
         self.delay_end: float | None = None
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.delay_end is None:
             self.delay_end = self.now() + self.get_input("delay_msec") / 1000.0
         if self.now() + TIME_EPS < self.delay_end:
             return R
-        status = yield from self.tick_child()
+        status = self.tick_child()
         if status != R:
             self.delay_end = None
             halt(self.decorated)
@@ -172,7 +172,7 @@ class Timeout(_TimedDecorator):
     def reset_state(self) -> None:
         self.deadline: float | None = None
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.deadline is None:
             msec = self.get_input("msec")
             self.deadline = self.now() + msec / 1000.0 if msec > 0 else float("inf")
@@ -180,7 +180,7 @@ class Timeout(_TimedDecorator):
             halt(self.decorated)
             self.deadline = None
             return F
-        status = yield from self.tick_child()
+        status = self.tick_child()
         if status != R:
             self.deadline = None
             halt(self.decorated)
@@ -204,13 +204,13 @@ class RunOnce(DecoratorNode):
         super().__init__(name=name, child=child, **kwargs)
         self.returned: Status | None = None  # not reset by halt, as in BT.CPP
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.returned is not None:
             if self.get_input("then_skip"):
                 self.skipped = True
                 return S
             return self.returned
-        status = yield from self.tick_child()
+        status = self.tick_child()
         if status != R:
             self.returned = status
             halt(self.decorated)

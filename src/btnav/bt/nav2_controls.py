@@ -4,12 +4,13 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+from py_trees.common import Status
 from py_trees.composites import Selector as _PtSelector
 from py_trees.composites import Sequence as _PtSequence
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import ControlNode, F, R, S, TickGen, is_skipped
+from .base import ControlNode, F, R, S, is_skipped
 from .errors import TreeError
 
 
@@ -25,13 +26,14 @@ class PipelineSequence(ControlNode, _PtSequence):
     def reset_state(self) -> None:
         self.last_child_ticked = 0
 
-    def tick_children(self) -> TickGen:
+    def tick_children(self) -> Status:
         for i, child in enumerate(self.children):
-            status = yield from self.tick_child(child)
-            if status == F:
+            self.current_child = child
+            status = child.execute_tick()
+            if status is F:
                 self.halt_self()
                 return F
-            if status == R and i >= self.last_child_ticked:
+            if status is R and i >= self.last_child_ticked:
                 self.last_child_ticked = i
                 return R
         self.halt_self()
@@ -55,17 +57,18 @@ class RecoveryNode(ControlNode, _PtSelector):
         self.current_child_idx = 0
         self.retry_count = 0
 
-    def tick_children(self) -> TickGen:
+    def tick_children(self) -> Status:
         if len(self.children) != 2:
             raise TreeError(f"RecoveryNode '{self.name}' must only have 2 children")
         retries = self.get_input("number_of_retries")
         while self.current_child_idx < 2 and self.retry_count <= retries:
             child = self.children[self.current_child_idx]
-            status = yield from self.tick_child(child)
-            if status == R:
+            self.current_child = child
+            status = child.execute_tick()
+            if status is R:
                 return R
             if self.current_child_idx == 0:
-                if status == S:
+                if status is S:
                     self.halt_self()
                     if is_skipped(child):
                         self.skipped = True
@@ -77,12 +80,12 @@ class RecoveryNode(ControlNode, _PtSelector):
                     self.halt_self()
                     return F
             else:
-                if status == S and is_skipped(child):
+                if status is S and is_skipped(child):
                     # a skipped recovery cannot help: fail, without counting a retry
                     self.current_child_idx = 0
                     self.halt_child(1)
                     return F
-                if status == S:
+                if status is S:
                     self.halt_child(1)
                     self.retry_count += 1
                     self.current_child_idx = 0
@@ -113,15 +116,16 @@ class RoundRobin(ControlNode, _PtSelector):
         self.current_child_idx = 0
         self.num_failed_children = 0
 
-    def tick_children(self) -> TickGen:
+    def tick_children(self) -> Status:
         n = len(self.children)
         wrap_around = self.get_input("wrap_around")
         num_skipped = 0
         while self.num_failed_children + num_skipped < n:
             child = self.children[self.current_child_idx]
-            status = yield from self.tick_child(child)
+            self.current_child = child
+            status = child.execute_tick()
             skipped = is_skipped(child)
-            if status != R:
+            if status is not R:
                 self.current_child_idx += 1
                 if self.current_child_idx == n:
                     if wrap_around:
@@ -129,14 +133,14 @@ class RoundRobin(ControlNode, _PtSelector):
                     else:
                         if skipped:
                             num_skipped += 1
-                        elif status == F:
+                        elif status is F:
                             self.num_failed_children += 1
                         break
-            if status == R:
+            if status is R:
                 return R
             if skipped:
                 num_skipped += 1
-            elif status == S:
+            elif status is S:
                 self.num_failed_children = 0
                 self.halt_children()
                 return S

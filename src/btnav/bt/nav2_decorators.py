@@ -9,7 +9,7 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, R, S, TickGen
+from .base import TIME_EPS, DecoratorNode, R, S
 
 
 @register("bt_node", "RateController")
@@ -40,7 +40,7 @@ class RateController(DecoratorNode):
         self.period = 0.1
         self.first_time = False
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.status == Status.INVALID:  # a new run (BT.CPP: status not active)
             self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
@@ -48,7 +48,7 @@ class RateController(DecoratorNode):
         elapsed = self.now() - self.start
         if self.first_time or self.decorated.status == R or elapsed + TIME_EPS >= self.period:
             self.first_time = False
-            status = yield from self.tick_child()
+            status = self.tick_child()
             if status == S:
                 self.start = self.now()
             return status

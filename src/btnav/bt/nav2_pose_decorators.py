@@ -19,7 +19,7 @@ from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..plugins import register
-from .base import TIME_EPS, DecoratorNode, F, R, S, TickGen, halt, input_port
+from .base import TIME_EPS, DecoratorNode, F, R, S, halt, input_port
 from .nav2_context import (
     DEFAULT_GLOBAL_FRAME,
     DEFAULT_ROBOT_BASE_FRAME,
@@ -78,7 +78,7 @@ class DistanceController(Nav2Decorator):
         self.start_pose: Pose2D | None = None
         self.first_time = False
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.status == Status.INVALID:
             self.start_pose = self.robot_pose()
             if self.start_pose is None:
@@ -90,7 +90,7 @@ class DistanceController(Nav2Decorator):
         travelled = math.hypot(pose.x - self.start_pose.x, pose.y - self.start_pose.y)
         if self.first_time or self.decorated.status == R or travelled >= self.get_input("distance"):
             self.first_time = False
-            status = yield from self.tick_child()
+            status = self.tick_child()
             if status == S:
                 self.start_pose = self.robot_pose()
                 if self.start_pose is None:
@@ -138,7 +138,7 @@ class SpeedController(Nav2Decorator):
             return 0.0
         return math.hypot(odom.twist.linear_x, odom.twist.linear_y)
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         if self.get_input("min_rate") <= 0.0 or self.get_input("max_rate") <= 0.0:
             raise BtnavError(f"SpeedController '{self.name}' cannot have a rate <= 0.0")
         goal, goals = self.optional("goal"), self.optional("goals")
@@ -156,7 +156,7 @@ class SpeedController(Nav2Decorator):
             if expired:
                 self.period = 1.0 / self._rate(self._speed())
                 self.start = self.now()
-            return (yield from self.tick_child())
+            return self.tick_child()
         return R
 
 
@@ -176,7 +176,7 @@ class GoalUpdatedController(Nav2Decorator):
         self.goals: Any = None
         self.goal_was_updated = False
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         goal, goals = self.optional("goal"), self.optional("goals")
         if self.status == Status.INVALID:
             self.goal, self.goals = goal, goals
@@ -186,7 +186,7 @@ class GoalUpdatedController(Nav2Decorator):
             self.goal_was_updated = True
         if self.decorated.status == R or self.goal_was_updated:
             self.goal_was_updated = False
-            return (yield from self.tick_child())
+            return self.tick_child()
         return R
 
 
@@ -220,7 +220,7 @@ class GoalUpdater(Nav2Decorator):
     def _on_goals(self, msg: Any) -> None:
         self.last_goals = msg
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         goal, goals = self.optional("input_goal"), self.optional("input_goals")
         received = self.last_goal
         stamp = getattr(received, "stamp", 0.0)
@@ -236,7 +236,7 @@ class GoalUpdater(Nav2Decorator):
                 goals = poses
         if goals is not None:
             self._set_output("output_goals", list(goals))
-        return (yield from self.tick_child())
+        return self.tick_child()
 
 
 @register("bt_node", "PathLongerOnApproach")
@@ -258,7 +258,7 @@ class PathLongerOnApproach(Nav2Decorator):
         self.first_time = True
         super().__init__(name=name, child=child, **kwargs)
 
-    def tick_decorated(self) -> TickGen:
+    def tick_decorated(self) -> Status:
         new = self.optional("path")
         old = self.old_path
         new_n = len(new) if new is not None else 0
@@ -279,7 +279,7 @@ class PathLongerOnApproach(Nav2Decorator):
             and new.length() > self.get_input("length_factor") * old.length()  # type: ignore[union-attr]
             and not self.first_time
         ):
-            status = yield from self.tick_child()
+            status = self.tick_child()
             if status in (S, F):
                 self.old_path = new
                 halt(self.decorated)

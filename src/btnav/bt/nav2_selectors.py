@@ -3,8 +3,9 @@
 Each writes the last id received on its topic (`topic_name`, a std_msgs/String: a
 `str` or anything with `.data`, published on the runtime) to its output port, or its
 default when nothing was received; with neither it fails ("required selection"
-mode). The subscription is made on the first tick with a runtime, as Nav2 makes it
-when the node initialises.
+mode). `topic_name` is read, and the subscription made (or moved to a new topic),
+on a tick that starts a run (the node was idle), as Nav2's `initialize()` does; the
+other ticks only write the selection.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from .nav2_context import Nav2Leaf
 class _Selector(Nav2Leaf):
     #: (kind) e.g. "planner": ports `default_planner`, `selected_planner`, topic `planner_selector`.
     KIND: ClassVar[str] = ""
+    #: The output port the selection is written to (`selected_<KIND>`).
+    SELECTED: ClassVar[str] = ""
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name=name, **kwargs)
@@ -51,17 +54,19 @@ class _Selector(Nav2Leaf):
         self.last_selected = str(getattr(msg, "data", msg))
 
     def update(self) -> Status:
-        topic = self.get_input("topic_name")
-        if self.runtime is not None and topic != self.topic:
-            self.topic = topic
-            self.runtime.subscribe(topic, self._on_select)
+        if self.status is Status.INVALID and self.runtime is not None:
+            # Nav2's initialize(), on a tick while the node is not active
+            topic = self.get_input("topic_name")
+            if topic != self.topic:
+                self.topic = topic
+                self.runtime.subscribe(topic, self._on_select)
         if not self.last_selected:
             default = self.optional(f"default_{self.KIND}")
             if not default:
                 self.feedback_message = f"no {self.KIND} selected and no default_{self.KIND}"
                 return Status.FAILURE
             self.last_selected = default
-        self._set_output(f"selected_{self.KIND}", self.last_selected)
+        self._set_output(self.SELECTED, self.last_selected)
         return Status.SUCCESS
 
 
@@ -72,6 +77,7 @@ def _selector(node_id: str, kind: str, label: str) -> type[_Selector]:
         (_Selector,),
         {
             "KIND": kind,
+            "SELECTED": f"selected_{kind}",
             "INPUT_PORTS": inputs,
             "OUTPUT_PORTS": outputs,
             "__doc__": f"Nav2's {node_id}: the {label} id for the nodes that take one.",
