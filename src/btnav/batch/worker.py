@@ -96,7 +96,12 @@ def child_main(job: Job, out: str, conn: Connection) -> None:
     if os.path.isdir(job.cwd):  # on a Ray node, where the batch started (if it is there)
         os.chdir(job.cwd)
     record = execute(job, Path(out))
-    conn.send(record)
+    try:
+        conn.send(record)
+    except (BrokenPipeError, ConnectionResetError):
+        # the batch stopped listening (Ctrl-C while this run was ending): it will run
+        # this job again next time, so the record goes nowhere, and no traceback
+        return
     conn.close()
 
 
