@@ -3,6 +3,9 @@
 `report`, `trajectory`, `bt_log` and `map` are written by the run itself. Any other
 name in a mission's `outputs:` is an `output` plugin (`@register("output", "png")`),
 called once the run has ended with a `RunOutput`; `files` lists what it writes.
+An output that records the run as it goes (a GIF's frames, a bag's messages) also
+defines `start(nav, out_dir)`, called once the bring-up is built and before the task
+is sent: it adds its own runtime components (MONITOR stage, read-only) there.
 The `viz` extra registers `png` (`run.png`). A user's output is a peer:
 
 ```python
@@ -17,7 +20,7 @@ class SpeedPlot:
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -66,6 +69,14 @@ class OutputPlugin(Protocol):
     files: tuple[str, ...]
 
     def write(self, run: RunOutput) -> None: ...
+
+
+def start_outputs(plugins: Mapping[str, Any], nav: Any, out_dir: Path) -> None:
+    """Call each plugin's optional `start(nav, out_dir)` before the task is sent."""
+    for plugin in plugins.values():
+        start = getattr(plugin, "start", None)
+        if start is not None:
+            start(nav, out_dir)
 
 
 def output_names() -> list[str]:

@@ -23,7 +23,7 @@ from ..navigators.navigator import BasicNavigator
 from .bt_log import BtLog
 from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission
-from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin
+from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin, start_outputs
 from .report import RunReport
 from .trajectory import TrajectoryRecorder
 
@@ -87,6 +87,8 @@ def run_mission(
                 if navigator.action == TASK_ACTION[mission.task] and navigator.root is not None:
                     log(navigator, nav.now)
 
+        if out is not None:
+            start_outputs(plugins, nav, out)
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):
