@@ -13,7 +13,7 @@ LAYERS: list[set[str]] = [
     {"maps", "params", "plugins"},
     {"sim"},
     {"costmap"},
-    {"planning", "control", "behaviors", "localization", "slam"},
+    {"planning", "control", "behaviors", "localization", "slam", "exploration"},
     {"nav"},
     {"bt"},
     {"navigators"},

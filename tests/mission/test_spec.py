@@ -62,13 +62,13 @@ def test_a_task_is_exactly_one_of_four(tmp_path):
     assert err.key.startswith("task.navigate_to_pose")
 
 
-def test_what_btnav_cannot_do_yet_is_said_plainly(tmp_path):
-    err = error_of(write_mission(tmp_path, task={"explore": {}}))
-    assert err.key == "task.explore" and "not available yet" in err.message
-    err = error_of(
-        write_mission(tmp_path, outputs=["report", "gif"], task={"navigate_to_pose": [3, 2]})
-    )
-    assert err.key == "outputs[1]" and "not available yet" in err.message
+def test_exploring_without_slam_is_a_mistake_named_at_the_localization_line(tmp_path):
+    err = error_of(write_mission(tmp_path, task="explore", localization="amcl"))
+    assert err.key == "localization" and "localization: slam" in err.message
+    assert err.line is not None
+
+
+def test_a_misspelt_output_names_the_closest(tmp_path):
     err = error_of(write_mission(tmp_path, outputs=["reprot"], task={"navigate_to_pose": [3, 2]}))
     assert err.suggestion == "report"
 

@@ -37,6 +37,8 @@ ALIASES = {
 NAV2_REPOSITORY = "https://github.com/ros-navigation/navigation2"
 NAV2_COMMIT = "a3a97043ee93d92fe8d70ec56d183933169beb1c"
 NAV2_TREES_PATH = "nav2_bt_navigator/behavior_trees"
+#: btnav's own bundled trees (not imported from Nav2's files).
+BTNAV_TREES = ("explore",)
 #: In Nav2's behavior_trees folder but not a tree: Groot's node palette.
 NAV2_NODE_MODEL = "nav2_tree_nodes.xml"
 

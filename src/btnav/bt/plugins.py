@@ -2,6 +2,7 @@
 
 from . import controls as _controls  # noqa: F401
 from . import decorators as _decorators  # noqa: F401
+from . import explore_nodes as _explore_nodes  # noqa: F401
 from . import leaves as _leaves  # noqa: F401
 from . import nav2_actions as _nav2_actions  # noqa: F401
 from . import nav2_conditions as _nav2_conditions  # noqa: F401

@@ -158,6 +158,27 @@ class NavigateThroughPosesError(NavErrorCode):
     TIMEOUT = 9103
 
 
+class ExploreError(NavErrorCode):
+    """btnav's Explore action (explore_lite has no action): NavigateToPose's codes, 9200s."""
+
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    UNKNOWN = 9200
+    FAILED_TO_LOAD_BEHAVIOR_TREE = 9201
+    TF_ERROR = 9202
+    TIMEOUT = 9203
+
+
+class DriveError(NavErrorCode):
+    """btnav's Drive action (scripted teleop)."""
+
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    UNKNOWN = 9300
+
+
 #: Every action btnav serves, by Nav2's action name.
 ERROR_CODES: dict[str, type[NavErrorCode]] = {
     cls.__name__.removesuffix("Error"): cls
@@ -173,6 +194,8 @@ ERROR_CODES: dict[str, type[NavErrorCode]] = {
         NavigateToPoseError,
         NavigateThroughPosesError,
         FollowWaypointsError,
+        ExploreError,
+        DriveError,
     )
 }
 

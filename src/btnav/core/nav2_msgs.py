@@ -177,3 +177,38 @@ class FollowWaypointsResult:
     @property
     def missed_indices(self) -> list[int]:
         return [m.index for m in self.missed_waypoints]
+
+
+# -- btnav's own actions: exploring, and driving a teleop script -------------------------
+
+
+@dataclass
+class ExploreGoal:
+    """Explore until no reachable frontier is left (explore_lite's job, as one action)."""
+
+    behavior_tree: str = ""
+
+
+@dataclass
+class ExploreFeedback(NavigateToPoseFeedback):
+    frontiers_left: int = 0
+    explored_area: float = 0.0  # m^2 of free space mapped
+
+
+@dataclass
+class ExploreResult:
+    explored_area: float  # m^2 of free space mapped
+    blacklisted_frontiers: int
+
+
+@dataclass
+class DriveGoal:
+    """Velocity commands `(linear_x, angular_z, seconds)`, one after the other (teleop)."""
+
+    commands: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+@dataclass
+class DriveFeedback:
+    command_index: int
+    time_left: float

@@ -40,6 +40,7 @@ from .errors import MissionError
 from .outputs import check_outputs
 from .param_frames import check_frames
 from .spec import (
+    SLAM,
     MissionSpec,
     load_mission_spec,
     mission_place,
@@ -55,6 +56,8 @@ TASK_ACTION = {
     "navigate_to_pose": "NavigateToPose",
     "follow_waypoints": "NavigateToPose",  # waypoint_follower sends NavigateToPose goals
     "navigate_through_poses": "NavigateThroughPoses",
+    "explore": "Explore",
+    "drive": "",  # teleop: no tree
 }
 
 
@@ -237,7 +240,8 @@ class Mission:
         )
         action = TASK_ACTION[self.task]
         try:  # the task's tree is built now, so a bad tree is a load error, not a failed run
-            nav.use_tree(self.tree, action)
+            if action:
+                nav.use_tree(self.tree, action)
         except BtnavError as err:
             raise _located(err, self._tree_key(action)) from None
         start = self.spec.initial_pose
@@ -407,7 +411,6 @@ def _existing(path: Path, key: str, where: Any) -> Path:
 
 
 #: Localisations that build their map (plugins of kind `slam`).
-SLAM = ("slam", "cartographer")
 
 
 def _cartographer_config(spec: MissionSpec, base: Path, where: Any) -> Any:

@@ -33,6 +33,8 @@ class RunReport:
     #: One record per contact (`World.contacts`): time, pose [x, y, yaw], hit (wall or
     #: obstacle), index in the world file's list, kind and line; `collisions` counts them.
     contacts: list[dict[str, Any]] = field(default_factory=list)
+    #: m^2 of free space on the SLAM map at the end (None: the run had a map, not SLAM).
+    explored_area: float | None = None
 
     @property
     def succeeded(self) -> bool:
@@ -71,6 +73,8 @@ class RunReport:
             f"{self.collisions} collision{'s' if self.collisions != 1 else ''}",
             f"{self.recoveries} recover{'ies' if self.recoveries != 1 else 'y'}",
         ]
+        if self.explored_area is not None:
+            parts.insert(1, f"{self.explored_area:.1f} m² explored")
         if self.task == "follow_waypoints" and self.succeeded:
             reached = self.goals - len(self.missed_waypoints)
             missed = f" (missed {self.missed_waypoints})" if self.missed_waypoints else ""

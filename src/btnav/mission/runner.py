@@ -25,12 +25,18 @@ from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission
 from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin, start_outputs
 from .report import RunReport
+from .spec import SLAM
 from .trajectory import TrajectoryRecorder
 
 
 def start_task(nav: BasicNavigator, mission: Mission) -> bool:
     """Send the mission's task; False if the server rejected it."""
-    poses = [Pose2D(*p) for p in mission.spec.task.poses]
+    task = mission.spec.task
+    if mission.task == "explore":
+        return nav.explore()
+    if mission.task == "drive":
+        return nav.drive(task.drive or [])
+    poses = [Pose2D(*p) for p in task.poses]
     if mission.task == "navigate_to_pose":
         return nav.go_to_pose(poses[0])
     if mission.task == "navigate_through_poses":
@@ -151,4 +157,7 @@ def _report(
         goals=len(mission.spec.task.poses),
         outputs=[f for name in outputs for f in output_files(name)],
         contacts=[c.to_dict() for c in nav.world.contacts],
+        explored_area=(
+            nav.stack.explore_server.explored_area() if mission.spec.localization in SLAM else None
+        ),
     )

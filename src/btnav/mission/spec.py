@@ -55,8 +55,20 @@ def _finite(v: tuple[float, float, float]) -> tuple[float, float, float]:
 Pose = Annotated[tuple[float, float, float], BeforeValidator(_pose), AfterValidator(_finite)]
 Poses = Annotated[list[Pose], Field(min_length=1)]
 
-#: Tasks the brief names that btnav cannot run yet.
-PLANNED_TASKS = {"explore": "frontier exploration needs SLAM, which btnav does not have yet"}
+
+def _drive_command(v: tuple[float, float, float]) -> tuple[float, float, float]:
+    if not all(math.isfinite(c) for c in v) or v[2] < 0.0:
+        raise ValueError("a drive command is [linear_x, angular_z, seconds], seconds >= 0")
+    return v
+
+
+DriveCommand = Annotated[tuple[float, float, float], AfterValidator(_drive_command)]
+#: Localisers whose map grows as the robot drives: exploring needs one.
+SLAM = ("slam", "cartographer")
+
+
+class ExploreTask(StrictModel):
+    """`task: explore` (or `explore: {}`): the explore tree until no frontier is left."""
 
 
 class TaskSpec(StrictModel):
@@ -65,7 +77,18 @@ class TaskSpec(StrictModel):
     navigate_to_pose: Pose | None = None
     navigate_through_poses: Poses | None = None
     follow_waypoints: Poses | None = None
-    explore: dict[str, Any] | None = None
+    explore: ExploreTask | None = None
+    drive: Annotated[list[DriveCommand], Field(min_length=1)] | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _bare_name(cls, value: Any) -> Any:
+        """`task: explore` is `task: {explore: {}}`; `explore:` with nothing under it too."""
+        if value == "explore":
+            return {"explore": {}}
+        if isinstance(value, Mapping) and "explore" in value and value["explore"] is None:
+            return {**value, "explore": {}}
+        return value
 
     @model_validator(mode="after")
     def _exactly_one(self) -> TaskSpec:
@@ -73,7 +96,7 @@ class TaskSpec(StrictModel):
         if len(given) != 1:
             raise ValueError(
                 "a task is exactly one of navigate_to_pose, navigate_through_poses, "
-                f"follow_waypoints, explore (got {', '.join(given) or 'none'})"
+                f"follow_waypoints, explore, drive (got {', '.join(given) or 'none'})"
             )
         return self
 
@@ -86,7 +109,7 @@ class TaskSpec(StrictModel):
         value = getattr(self, self.kind)
         if self.kind == "navigate_to_pose":
             return [value]
-        return list(value) if isinstance(value, list) else []
+        return list(value) if self.kind in ("navigate_through_poses", "follow_waypoints") else []
 
 
 class MissionSpec(StrictModel):
@@ -194,14 +217,15 @@ def load_mission_spec(
 
 
 def _check_task(spec: MissionSpec, doc: Any, file: str, changed: Mapping[str, str]) -> None:
-    if spec.task.kind in PLANNED_TASKS:
-        key = f"task.{spec.task.kind}"
-        origin = set_by(key, changed)
+    if spec.task.kind == "explore" and spec.localization not in SLAM:
+        key = "task.explore"
+        origin = set_by("localization", changed) or set_by(key, changed)
         raise MissionError(
-            f"task '{spec.task.kind}' is not available yet: {PLANNED_TASKS[spec.task.kind]}",
+            f"exploring needs a map that grows as the robot drives: localization: slam "
+            f"(or cartographer), not {spec.localization}",
             file=origin or file,
-            line=None if origin else line_at(doc, ["task", spec.task.kind]),
-            key=key,
+            line=None if origin else line_at(doc, ["localization"]) or line_at(doc, ["task"]),
+            key="localization",
         )
 
 

@@ -6,7 +6,8 @@ costmap (in `map`, static + obstacle + inflation for Nav2's file) and the local
 costmap (rolling in `odom`) as components at their `update_frequency`, and the
 planner, controller, smoother and behavior servers with their actions
 (`compute_path_to_pose`, `compute_path_through_poses`, `follow_path`,
-`smooth_path`, `spin`, `backup`, `drive_on_heading`, `wait`). The localiser
+`smooth_path`, `spin`, `backup`, `drive_on_heading`, `wait`), and explore's frontier
+services (`explore/compute_frontiers`, `explore/blacklist_frontier`). The localiser
 (`runtime.use_localizer`) is the mission's choice and is added by its owner.
 
 `stack.set_parameters("local_costmap", {"inflation_layer.inflation_radius": 0.5})`
@@ -28,6 +29,7 @@ from ..params.updates import validate_update
 from .behavior_server import BehaviorServer
 from .controller_server import ControllerServer
 from .costmap_server import CostmapServer
+from .explore_server import ExploreServer
 from .map_server import MapServer
 from .planner_server import PlannerServer
 from .runtime import Runtime
@@ -46,6 +48,7 @@ class NavStack:
         controller_server: ControllerServer,
         smoother_server: SmootherServer,
         behavior_server: BehaviorServer,
+        explore_server: ExploreServer,
     ) -> None:
         self.runtime = runtime
         self.params = params
@@ -56,6 +59,7 @@ class NavStack:
         self.controller_server = controller_server
         self.smoother_server = smoother_server
         self.behavior_server = behavior_server
+        self.explore_server = explore_server
         #: Servers by their params-file name, for set_parameters.
         self.servers: dict[str, Any] = {
             "global_costmap": global_costmap,
@@ -64,6 +68,7 @@ class NavStack:
             "controller_server": controller_server,
             "smoother_server": smoother_server,
             "behavior_server": behavior_server,
+            "explore": explore_server,
         }
 
     @classmethod
@@ -100,6 +105,7 @@ class NavStack:
             local_costmap=local_costmap,
             global_costmap=global_costmap,
         )
+        explore = ExploreServer(runtime, pf.server("explore"), global_costmap, map_server)
         return cls(
             runtime,
             pf,
@@ -110,6 +116,7 @@ class NavStack:
             controller,
             smoother,
             behaviors,
+            explore,
         )
 
     # -- dynamic parameters ---------------------------------------------------------------
@@ -131,6 +138,7 @@ class NavStack:
         out.update(self.global_costmap.services())
         out.update(self.local_costmap.services())
         out["map_server/load_map"] = self.map_server.load_map
+        out.update(self.explore_server.services())
         localizer = self.runtime.localizer
         for name in ("reinitialize_global_localization", "request_nomotion_update"):
             service = getattr(localizer, name, None)

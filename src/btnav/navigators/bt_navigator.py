@@ -355,9 +355,13 @@ class BtNavigator:
                     key=section.key,
                     suggestion=best_match(section.type, names("navigator", aliases=True)),
                 )
-            nav: BehaviorTreeNavigator = make_plugin(section)
-            nav.configure(self)
-            self.navigators[section.name] = runtime.add(nav)
+            self.add_navigator(section.name, make_plugin(section))
+
+    def add_navigator(self, name: str, navigator: BehaviorTreeNavigator) -> BehaviorTreeNavigator:
+        """Configure `navigator` and serve its action on the runtime."""
+        navigator.configure(self)
+        self.navigators[name] = self.runtime.add(navigator)
+        return navigator
 
     def notify(self, navigator: BehaviorTreeNavigator, now: float) -> None:
         for listener in self.tick_listeners:

@@ -31,6 +31,8 @@ from ..core.messages import Path
 from ..core.nav2_msgs import (
     BackUpGoal,
     ComputePathToPoseGoal,
+    DriveGoal,
+    ExploreGoal,
     FollowWaypointsGoal,
     NavigateThroughPosesGoal,
     NavigateToPoseGoal,
@@ -40,12 +42,14 @@ from ..maps.map_io import load_map, save_map
 from ..nav.actions import GoalHandle
 from ..nav.runtime import Runtime
 from ..nav.stack import NavStack
+from ..nav.teleop import DriveServer
 from ..params.loader import load_params
 from ..params.map_io import MapSaverParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..sim.world import World
 from ..slam.slam_toolbox import default_slam_params
 from .bt_navigator import BtNavigator
+from .explore_navigator import ExploreNavigator
 from .waypoint_follower import WaypointFollower
 
 PoseArg = Pose2D | Sequence[float]
@@ -122,11 +126,18 @@ class BasicNavigator:
         navigators (NavigateToPose, which waypoint_follower's goals use too, or
         NavigateThroughPoses), built and validated now so a bad tree fails here and not
         at the first goal."""
-        for navigator in self.bt_navigator.navigators.values():
-            if navigator.action == action:
-                if tree:
-                    navigator.default_tree = tree
-                navigator.load()
+        for navigator in self._navigators(action):
+            if tree:
+                navigator.default_tree = tree
+            navigator.load()
+
+    def _navigators(self, action: str) -> list[Any]:
+        """bt_navigator's navigators of `action`; the Explore navigator is added when the
+        params file lists none (Nav2's files do not know it)."""
+        found = [n for n in self.bt_navigator.navigators.values() if n.action == action]
+        if not found and action == ExploreNavigator.action_name:
+            found = [self.bt_navigator.add_navigator("explore", ExploreNavigator("explore"))]
+        return found
 
     # -- tasks ------------------------------------------------------------------------------
 
@@ -146,6 +157,17 @@ class BasicNavigator:
     def follow_waypoints(self, poses: Sequence[PoseArg]) -> bool:
         """FollowWaypoints (waypoint_follower): one NavigateToPose per pose."""
         return self._send("follow_waypoints", FollowWaypointsGoal([_pose(p) for p in poses]))
+
+    def explore(self, behavior_tree: str = "") -> bool:
+        """Explore until no reachable frontier is left (the bundled `explore` tree)."""
+        (navigator,) = self._navigators(ExploreNavigator.action_name)[:1]
+        return self._send(navigator.name, ExploreGoal(behavior_tree))
+
+    def drive(self, commands: Sequence[Sequence[float]]) -> bool:
+        """Teleop: hold each `(linear_x, angular_z, seconds)` in turn, then stop."""
+        if "drive" not in self.runtime.action_servers:
+            self.runtime.add(DriveServer(self.runtime))
+        return self._send("drive", DriveGoal([tuple(map(float, c)) for c in commands]))
 
     def spin(self, spin_dist: float = 1.57, time_allowance: float = 10.0) -> bool:
         return self._send("spin", SpinGoal(spin_dist, time_allowance))

@@ -14,6 +14,7 @@ from typing import Any
 
 from .collision_monitor import CollisionMonitorParams
 from .costmap import CostmapParams
+from .explore import ExploreParams
 from .localization import AmclParams, SlamToolboxParams
 from .map_io import MapSaverParams, MapServerParams
 from .navigation import (
@@ -175,5 +176,6 @@ SERVERS: dict[str, ServerSpec] = {
         ServerSpec("velocity_smoother", VelocitySmootherParams),
         ServerSpec("collision_monitor", CollisionMonitorParams),
         ServerSpec("slam_toolbox", SlamToolboxParams),
+        ServerSpec("explore", ExploreParams),
     )
 }

@@ -1,0 +1,1 @@
+"""Exploration: frontiers on the live map, and which one to visit next (explore_lite's role)."""
