@@ -1,7 +1,7 @@
 """Ten goal sets across inflation radii: which radius gets the robot through the office best?
 
     python examples/sweep_inflation.py [--radii 0.35:0.75:0.2] [--seeds 0:1] [--workers N]
-                                       [--out out/sweep_inflation] [--amcl]
+                                       [--out out/sweep_inflation] [--amcl] [--sets N]
 
 The intermediate engineer's loop (change the costmap's inflation radius, rerun ten sets
 of goals, compare) as one batch: ten missions in the small office, each from (1, 1)
@@ -41,10 +41,10 @@ def goal_sets() -> list[list[tuple[float, float, float]]]:
     return [list(pair) for pair in itertools.permutations(POINTS, 2)][:10]
 
 
-def write_missions(folder: Path, localization: str) -> list[Path]:
+def write_missions(folder: Path, localization: str, sets: int = 10) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
-    for n, goals in enumerate(goal_sets(), start=1):
+    for n, goals in enumerate(goal_sets()[:sets], start=1):
         doc = {
             "mission": f"goals-{n:02d}",
             "world": str(REPO / "worlds" / "small_office.yaml"),
@@ -73,9 +73,12 @@ def main() -> int:
     parser.add_argument(
         "--local", action="store_true", help="sweep the local costmap's too (every pair)"
     )
+    parser.add_argument(
+        "--sets", type=int, default=10, help="the first N goal sets only (a quick look)"
+    )
     args = parser.parse_args()
     out = Path(args.out)
-    missions = write_missions(out / "missions", "amcl" if args.amcl else "ground_truth")
+    missions = write_missions(out / "missions", "amcl" if args.amcl else "ground_truth", args.sets)
     radii = parse_values(args.radii, origin=f"--radii {args.radii}")
     sweep = {GLOBAL: radii, **({LOCAL: radii} if args.local else {})}
     records = run_batch(
@@ -86,8 +89,9 @@ def main() -> int:
         workers=args.workers,
         progress=default_progress(sys.stdout),
     )
-    # one line per radius over all ten goal sets, then the per-mission table
-    pooled = [type(r)(**{**r.__dict__, "mission": "all ten"}) for r in records]
+    # one line per radius over all the goal sets, then the per-mission table
+    label = "all ten" if len(missions) == 10 else f"all {len(missions)}"
+    pooled = [type(r)(**{**r.__dict__, "mission": label}) for r in records]
     print()
     print(markdown(summarize(pooled)), end="")
     print(f"\nper goal set: {out / 'summary.md'}; every run: {out / 'results.csv'}")

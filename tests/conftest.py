@@ -9,6 +9,8 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 SHARED_NAV2 = REPO.parent / "shared" / "nav2"
 
+pytest_plugins = ["pytester"]  # tests/testing runs a user's project with it
+
 
 @pytest.fixture(scope="session")
 def nav2_dir() -> Path:
