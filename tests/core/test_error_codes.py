@@ -35,6 +35,8 @@ def test_every_action_btnav_serves_has_a_table():
         "NavigateToPose",
         "NavigateThroughPoses",
         "FollowWaypoints",
+        "Explore",
+        "Drive",
     }
     for table in ERROR_CODES.values():
         assert table.NONE == 0

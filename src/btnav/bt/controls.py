@@ -136,13 +136,13 @@ class Parallel(ControlNode, _PtParallel):
             int,
             required=False,
             default_value=-1,
-            description="number of children that must succeed (-1 means all)",
+            description="Number of children that must succeed (-1 means all)",
         ),
         "failure_count": PortInformation(
             int,
             required=False,
             default_value=1,
-            description="number of children that must fail for the node to fail (-1 means all)",
+            description="Number of children that must fail for the node to fail (-1 means all)",
         ),
     }
 

@@ -60,7 +60,7 @@ class Repeat(DecoratorNode):
 
     INPUT_PORTS: ClassVar = {
         "num_cycles": PortInformation(
-            int, description="repeat a successful child up to N times; -1 for an endless loop"
+            int, description="Repeat a successful child up to N times; -1 for an endless loop"
         ),
     }
 
@@ -90,7 +90,7 @@ class RetryUntilSuccessful(DecoratorNode):
 
     INPUT_PORTS: ClassVar = {
         "num_attempts": PortInformation(
-            int, description="execute the child up to N times if it fails; -1 for no limit"
+            int, description="Run a failing child up to N times; -1 for no limit"
         ),
     }
 
@@ -140,7 +140,7 @@ class Delay(_TimedDecorator):
 
     INPUT_PORTS: ClassVar = {
         "delay_msec": PortInformation(
-            int, description="tick the child after this many milliseconds of sim time"
+            int, description="Tick the child after this many milliseconds of sim time"
         ),
     }
 
@@ -165,7 +165,7 @@ class Timeout(_TimedDecorator):
 
     INPUT_PORTS: ClassVar = {
         "msec": PortInformation(
-            int, description="halt the child after this many milliseconds of sim time"
+            int, description="Halt the child after this many milliseconds of sim time"
         ),
     }
 
@@ -196,7 +196,7 @@ class RunOnce(DecoratorNode):
             bool,
             required=False,
             default_value=True,
-            description="after the first run, return SKIPPED (true) or the first result (false)",
+            description="After the first run, return SKIPPED (true) or the first result (false)",
         ),
     }
 

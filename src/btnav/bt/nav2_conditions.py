@@ -59,6 +59,7 @@ class GoalUpdated(Nav2Leaf):
     The first tick of a run (after a halt) records them and fails.
     """
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = dict(_GOAL_PORTS)
     OUTPUT_PORTS: ClassVar = {}
     DEFAULT_KEYS: ClassVar = {"goal": "{goal}", "goals": "{goals}"}
@@ -106,6 +107,7 @@ class GoalReached(Nav2Leaf):
 
     #: bt_navigator's `goal_reached_tol` parameter default.
     GOAL_REACHED_TOL: ClassVar[float] = 0.25
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "goal": input_port(PoseLike, "Destination to check"),
         "robot_base_frame": input_port(str, "Robot base frame (bt_navigator's if not given)"),
@@ -128,6 +130,7 @@ class ArePosesNear(Nav2Leaf):
     """SUCCESS when `ref_pose` and `target_pose` are within `tolerance` (in `global_frame`
     when their frames differ)."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "ref_pose": input_port(PoseLike, "The pose to check"),
         "target_pose": input_port(PoseLike, "The other pose to check against"),
@@ -156,6 +159,7 @@ class IsGoalNearby(Nav2Leaf):
     `proximity_threshold`. With `max_robot_pose_search_dist` > 0 the search for the
     nearest pose starts where the previous one was found and looks that far ahead."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "path": input_port(Path, "The planned path to evaluate"),
         "proximity_threshold": input_port(
@@ -206,6 +210,7 @@ class IsGoalNearby(Nav2Leaf):
 class InitialPoseReceived(Nav2Leaf):
     """SUCCESS when `initial_pose_received` (default entry `{initial_pose_received}`) is true."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "initial_pose_received": input_port(
             bool, 'Whether an initial pose was received; "{initial_pose_received}" if not specified'
@@ -231,6 +236,7 @@ class AreErrorCodesPresent(Nav2Leaf):
 
     #: The codes a WouldA...RecoveryHelp checks (it ignores `error_codes_to_check`, as in Nav2).
     DEFAULT_CODES: ClassVar[frozenset[int] | None] = None
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "error_code": input_port(int, "The active error code to compare against"),
         "error_codes_to_check": input_port(
@@ -297,6 +303,7 @@ class WouldASmootherRecoveryHelp(AreErrorCodesPresent):
 class TimeExpired(Nav2Leaf):
     """SUCCESS once every `seconds` of sim time; the first tick of a run starts the timer."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "seconds": input_port(float, "The time passed to return success (s)", 1.0)
     }
@@ -353,6 +360,7 @@ class DistanceTraveled(Nav2Leaf):
     """SUCCESS each time the robot is `distance` metres (straight line) from where it was
     when the run started or the condition last succeeded."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "distance": input_port(
             float, "The distance that must be travelled before success (m)", 1.0
@@ -384,6 +392,7 @@ class DistanceTraveled(Nav2Leaf):
 class TransformAvailable(Nav2Leaf):
     """SUCCESS once the frame tree can transform between `parent` and `child` (and from then on)."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "child": input_port(str, "Child frame for transform", ""),
         "parent": input_port(str, "Parent frame for transform", ""),
@@ -420,6 +429,7 @@ class IsStuck(Nav2Leaf):
 
     BRAKE_ACCEL_LIMIT: ClassVar[float] = -10.0
     ODOM_HISTORY_SIZE: ClassVar[int] = 10
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {}
     OUTPUT_PORTS: ClassVar = {}
 
@@ -449,6 +459,7 @@ class IsWithinPathTrackingBounds(Nav2Leaf):
     direction; SUCCESS otherwise, and while there is no feedback yet. Negative bounds
     count as their absolute value, as in Nav2."""
 
+    NODE_KIND: ClassVar[str] = "Condition"
     INPUT_PORTS: ClassVar = {
         "max_error_left": input_port(float, "Largest tracking error (m) left of the path", 0.5),
         "max_error_right": input_port(float, "Largest tracking error (m) right of the path", 0.5),

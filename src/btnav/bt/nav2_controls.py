@@ -48,7 +48,7 @@ class RecoveryNode(ControlNode, _PtSelector):
 
     INPUT_PORTS: ClassVar = {
         "number_of_retries": PortInformation(
-            int, required=False, default_value=1, description="Number of retries."
+            int, required=False, default_value=1, description="How many times the recovery may run"
         ),
     }
     CHILDREN: ClassVar = (2, 2)
@@ -107,8 +107,7 @@ class RoundRobin(ControlNode, _PtSelector):
             bool,
             required=False,
             default_value=False,
-            description="Controls wrap-around behavior. When `false`, the node returns FAILURE "
-            "instead of wrapping to the first child after all children have been attempted.",
+            description="After the last child, start again from the first (true) or fail (false)",
         ),
     }
 

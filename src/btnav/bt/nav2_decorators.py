@@ -26,7 +26,7 @@ class RateController(DecoratorNode):
             float,
             required=False,
             default_value=10.0,
-            description="Rate to throttle an action or a group of actions.",
+            description="Most ticks of the child per second of sim time (Hz)",
         ),
     }
     INJECT: ClassVar = ("clock",)

@@ -67,6 +67,12 @@ def _tree_show(args: argparse.Namespace) -> int:
     return tree_show_main(args.tree)
 
 
+def _tree_palette(args: argparse.Namespace) -> int:
+    from .tree import tree_palette_main
+
+    return tree_palette_main(args.output, plugins=args.plugin or (), builtin=not args.skip_builtin)
+
+
 def _frames_of_world(args: argparse.Namespace) -> int:
     from .world import world_frames_main
 
@@ -94,7 +100,12 @@ def _run(args: argparse.Namespace) -> int:
 
     overrides, origins = _overrides(args)
     return run_main(
-        args.mission, out=args.out, seed=args.seed, overrides=overrides, origins=origins
+        args.mission,
+        out=args.out,
+        seed=args.seed,
+        overrides=overrides,
+        origins=origins,
+        gif=args.gif,
     )
 
 
@@ -153,6 +164,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--seed", type=int, help="the seed (default: the mission's)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
+    run.add_argument(
+        "--gif", action="store_true", help="also write run.gif, the run animated (viz extra)"
+    )
     run.set_defaults(func=_run)
 
     batch = sub.add_parser(
@@ -226,6 +240,22 @@ def build_parser() -> argparse.ArgumentParser:
     show = tree.add_parser("show", help="print a tree with its ports")
     show.add_argument("tree", help="a .xml/.yaml file or a bundled tree's name")
     show.set_defaults(func=_tree_show)
+    palette = tree.add_parser(
+        "palette", help="write Groot2's node palette (TreeNodesModel) of every node type"
+    )
+    palette.add_argument("-o", "--output", help="the .xml to write (default: print it)")
+    palette.add_argument(
+        "--plugin",
+        action="append",
+        metavar="MODULE_OR_FILE",
+        help="load a plugin module or .py file first, so its nodes are in it; repeatable",
+    )
+    palette.add_argument(
+        "--skip-builtin",
+        action="store_true",
+        help="leave out BehaviorTree.CPP's own nodes (Sequence, Inverter, ...): Groot2 has them",
+    )
+    palette.set_defaults(func=_tree_palette)
 
     world = _group(sub, "world", "simulation worlds")
     show = world.add_parser("show", help="draw the world, the robot and one scan (viz extra)")

@@ -1,4 +1,5 @@
-"""`btnav run MISSION [--out DIR] [--seed N] [--set KEY=VALUE ...]`: the run, one line of result.
+"""`btnav run MISSION [--out DIR] [--seed N] [--set KEY=VALUE ...] [--gif]`: the run, one line
+of result. `--gif` adds the `gif` output (`run.gif`, the viz extra) to the mission's outputs.
 
 On a terminal a live status line (sim time, real-time factor, the running action,
 the waypoint) is redrawn while the run goes and erased before the result; elsewhere
@@ -13,6 +14,7 @@ from typing import Any
 
 from ..mission.mission import Mission
 from ..mission.runner import run_mission
+from ..mission.stages import is_staged, run_stages, staged_mission_name
 from ..mission.status_line import StatusLine
 
 
@@ -27,10 +29,15 @@ def run_main(
     seed: int | None = None,
     overrides: dict[str, Any] | None = None,
     origins: dict[str, str] | None = None,
+    gif: bool = False,
 ) -> int:
     """Exit 0 when the task succeeded, 1 when it failed, hit its time limit or missed
     waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it."""
+    if is_staged(path):
+        return _run_stages(path, out, seed, overrides, origins, gif)
     mission = Mission.load(path, seed=seed, overrides=overrides, origins=origins)
+    if gif and "gif" not in mission.spec.outputs:
+        mission.spec.outputs = [*mission.spec.outputs, "gif"]
     out_dir = Path(out) if out is not None else default_out_dir(mission)
     status = StatusLine(sys.stdout, task=mission.task, goals=len(mission.spec.task.poses))
     try:
@@ -41,3 +48,41 @@ def run_main(
     if report.outputs:
         print(f"outputs in {out_dir}/: {', '.join(report.outputs)}")
     return report.exit_code
+
+
+def _run_stages(
+    path: str,
+    out: str | None,
+    seed: int | None,
+    overrides: dict[str, Any] | None,
+    origins: dict[str, str] | None,
+    gif: bool,
+) -> int:
+    """A mission in stages: a result line per stage as it ends, outputs in a folder each."""
+    out_dir = Path(out) if out is not None else Path("out") / staged_mission_name(path)
+    statuses: list[StatusLine] = []
+
+    def progress(mission: Mission) -> Any:
+        status = StatusLine(sys.stdout, task=mission.task, goals=len(mission.spec.task.poses))
+        statuses.append(status)
+        return status if status.enabled else None
+
+    def ended(stage: str, report: Any) -> None:
+        statuses[-1].close()
+        print(f"[{stage}] {report.summary()}")
+        print(f"[{stage}] outputs in {out_dir / stage}/: {', '.join(report.outputs)}")
+
+    extra = {"gif"} if gif else set()
+    staged = run_stages(
+        path,
+        out_dir,
+        seed=seed,
+        overrides=overrides,
+        origins=origins,
+        progress=progress,
+        on_stage=ended,
+        extra_outputs=extra,
+    )
+    for name in staged.planned[len(staged.stages) :]:
+        print(f"[{name}] not run: an earlier stage did not succeed")
+    return staged.exit_code

@@ -1,7 +1,8 @@
-"""`btnav tree import TREE.xml [-o TREE.yaml]` and `btnav tree show TREE`.
+"""`btnav tree import TREE.xml [-o TREE.yaml]`, `btnav tree show TREE` and
+`btnav tree palette [-o nodes.xml]`.
 
-Both raise a `BtnavError` for a user's mistake (the CLI prints it and exits 2) and
-return 0 otherwise. `tree show` raises for any tree `btnav run` would refuse, with the
+Each raises a `BtnavError` for a user's mistake (the CLI prints it and exits 2) and
+returns 0 otherwise. `tree show` raises for any tree `btnav run` would refuse, with the
 same message, after showing what it can of it.
 """
 
@@ -9,23 +10,27 @@ from __future__ import annotations
 
 import sys
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator
+from collections import Counter
+from collections.abc import Iterator, Sequence
 from os import PathLike
 from pathlib import Path
 from typing import TextIO
 
 from py_trees.behaviour import Behaviour
 
+from .. import __version__
 from ..bt.bundled import find_tree
 from ..bt.display import tree_text
 from ..bt.document import TreeDocument
 from ..bt.errors import TreeError
 from ..bt.loader import build_tree, load_document
+from ..bt.palette import palette_models, palette_xml
 from ..bt.registry import node_category, node_types
 from ..bt.validate import SUBTREE_TAGS, unknown_node_types
 from ..bt.xml_to_yaml import element_counts, import_xml
 from ..core.clock import SimClock
 from ..core.files import read_bytes
+from ..plugins import load_plugins
 from . import EXIT_OK
 
 # --- tree import ----------------------------------------------------------------------
@@ -248,3 +253,38 @@ def structure_text(doc: TreeDocument) -> str:
         for elem in trees[tree_id]:
             node(elem, 1)
     return "\n".join(out) + "\n"
+
+
+# --- tree palette -----------------------------------------------------------------------
+
+
+def tree_palette_main(
+    out_path: str | PathLike[str] | None = None,
+    *,
+    plugins: Sequence[str] = (),
+    builtin: bool = True,
+    out: TextIO | None = None,
+) -> int:
+    """Write Groot2's palette (`<TreeNodesModel>`) of every registered node type to
+    `out_path`, or print it.
+
+    `plugins` (modules or `.py` files, as a mission's `plugins:` list) are loaded first,
+    so their nodes are in it; `builtin=False` leaves out BT.CPP's own nodes.
+    """
+    out = out or sys.stdout
+    load_plugins(plugins, Path.cwd())
+    models = palette_models(builtin=builtin)
+    header = f"Groot2 palette of btnav {__version__}'s tree nodes, written by `btnav tree palette`"
+    text = palette_xml(models, header=header)
+    if out_path is None:
+        out.write(text)
+        return EXIT_OK
+    dst = Path(out_path)
+    try:
+        dst.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise TreeError(f"cannot write: {exc.strerror or exc}", file=dst) from None
+    kinds = Counter(m.kind for m in models)
+    counts = ", ".join(f"{n} {kind}" for kind, n in kinds.items())
+    out.write(f"wrote {dst}: {len(models)} node types ({counts})\n")
+    return EXIT_OK

@@ -131,11 +131,14 @@ class Mission:
         seed: int | None = None,
         overrides: Mapping[str, Any] | None = None,
         origins: Mapping[str, str] | None = None,
+        stage: str | None = None,
+        stage_maps: Mapping[str, Path] | None = None,
     ) -> Mission:
         """Read the mission and everything it names; any mistake is a located `BtnavError`.
 
         `origins` maps each override key to the option that gave it (`--set K=V` as typed;
-        default: rendered from the value), which errors about that value name.
+        default: rendered from the value), which errors about that value name. One stage of
+        a staged mission is `stage`, with `stage_maps` the maps its earlier stages saved.
         """
         file = find_mission(path)
         given = override_origins(dict(overrides or {}), origins)  # as typed
@@ -143,7 +146,7 @@ class Mission:
         if seed is not None:
             mission_over["mission.seed"] = seed
             given["mission.seed"] = f"--seed {seed}"
-        spec, doc = load_mission_spec(file, mission_over, given)
+        spec, doc = load_mission_spec(file, mission_over, given, stage=stage, stage_maps=stage_maps)
         base = file.parent
         changed = {"mission." + mission_place(k): given[k] for k in mission_over}
         where = partial(_where, file, doc, changed)

@@ -6,7 +6,8 @@ called once the run has ended with a `RunOutput`; `files` lists what it writes.
 An output that records the run as it goes (a GIF's frames, a bag's messages) also
 defines `start(nav, out_dir)`, called once the bring-up is built and before the task
 is sent: it adds its own runtime components (MONITOR stage, read-only) there.
-The `viz` extra registers `png` (`run.png`). A user's output is a peer:
+The `viz` extra registers `png` (`run.png`) and `gif` (`run.gif`), and `bag` (a ROS 2
+bag, with the `logs` extra). A user's output is a peer:
 
 ```python
 @register("output", "speed_plot")
@@ -39,8 +40,6 @@ BUILTIN_OUTPUTS: dict[str, tuple[str, ...]] = {
     "map": ("map.yaml", "map.pgm"),
 }
 DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
-#: Outputs the brief names that btnav cannot write yet.
-PLANNED_OUTPUTS = {"gif": "animations of a run"}
 
 
 @dataclass
@@ -102,12 +101,6 @@ def check_outputs(wanted: list[str], where: Callable[[int], dict[str, Any]]) -> 
     for i, name in enumerate(wanted):
         if is_output(name):
             continue
-        if name in PLANNED_OUTPUTS:
-            raise MissionError(
-                f"output '{name}' ({PLANNED_OUTPUTS[name]}) is not available yet; "
-                f"outputs are {', '.join(output_names())}",
-                **where(i),
-            )
         raise MissionError(
             f"unknown output '{name}'; outputs are {', '.join(output_names())}",
             suggestion=best_match(name, output_names()),

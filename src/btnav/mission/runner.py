@@ -11,6 +11,7 @@ never an exception.
 
 from __future__ import annotations
 
+import shutil
 import time
 from collections.abc import Callable
 from contextlib import ExitStack
@@ -58,9 +59,13 @@ def run_mission(
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        for name in outputs:  # no stale file from an earlier run
+        for name in outputs:  # no stale file (or folder: a bag) from an earlier run
             for stale in output_files(name):
-                (out / stale).unlink(missing_ok=True)
+                target = out / stale
+                if target.is_dir():
+                    shutil.rmtree(target)
+                else:
+                    target.unlink(missing_ok=True)
     plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator

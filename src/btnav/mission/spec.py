@@ -38,6 +38,7 @@ from ..core.yaml_io import YamlMap, line_at, load_yaml
 from ..params.tree import copy_tree, set_path
 from .errors import MissionError
 from .outputs import DEFAULT_OUTPUTS
+from .stage_doc import STAGES, stage_doc, stage_names
 
 
 def _pose(v: Any) -> Any:
@@ -182,11 +183,15 @@ def load_mission_spec(
     path: str | PathLike[str],
     overrides: Mapping[str, Any] | None = None,
     origins: Mapping[str, str] | None = None,
+    *,
+    stage: str | None = None,
+    stage_maps: Mapping[str, Path] | None = None,
 ) -> tuple[MissionSpec, Any]:
     """Read and validate a mission file (with `--set mission.*` overrides); the spec and document.
 
     `origins` says where each override came from (`--set mission.seed=3`, `--seed 3`); an
     error about an overridden value names that, not a line of the file it was never on.
+    A mission with `stages:` is read one stage at a time (`stage`, see `stage_doc`).
     """
     file = str(path)
     doc = load_yaml(path)
@@ -195,6 +200,16 @@ def load_mission_spec(
             "a mission file is a mapping (mission, world, params, map, task, ...)",
             file=file,
             line=getattr(doc, "line", None),
+        )
+    if stage is not None:
+        doc = stage_doc(doc, stage, file, stage_maps)
+    elif stage_names(doc, file):
+        raise MissionError(
+            "this mission runs in stages: run it with `btnav run` (or `run_stages`), or load "
+            "one stage with Mission.load(path, stage=NAME)",
+            file=file,
+            line=doc.line_of(STAGES),
+            key=STAGES,
         )
     where = override_origins(overrides or {}, origins)
     changed = {mission_place(k): origin for k, origin in where.items()}

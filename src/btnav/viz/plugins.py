@@ -1,3 +1,5 @@
 """The `viz` entry point: importing this registers every output plugin of this package."""
 
 from . import run_plot  # noqa: F401  (`png`)
+from .rosbag_output import RosbagOutput  # noqa: F401  (`bag`)
+from .run_gif import RunGif  # noqa: F401  (`gif`)
