@@ -35,6 +35,12 @@ def _params_check(args: argparse.Namespace) -> int:
     return check_main(args.file)
 
 
+def _map_show(args: argparse.Namespace) -> int:
+    from .map import map_show_main
+
+    return map_show_main(args.map, args.output)
+
+
 def _map_from_world(args: argparse.Namespace) -> int:
     from .map import from_world_main
 
@@ -223,6 +229,10 @@ def build_parser() -> argparse.ArgumentParser:
     fw.add_argument("-o", "--output", required=True, help="the map .yaml to write (and its .pgm)")
     fw.add_argument("--resolution", type=float, default=0.05, help="metres per cell (0.05)")
     fw.set_defaults(func=_map_from_world)
+    ms = maps.add_parser("show", help="draw a map (free, occupied, unknown) into a PNG (viz extra)")
+    ms.add_argument("map", help="a map_server .yaml")
+    ms.add_argument("-o", "--output", help="the .png to write (default: beside the map)")
+    ms.set_defaults(func=_map_show)
 
     slam = sub.add_parser("slam", help="SLAM on a recorded log (CARMEN, ROS 1 or ROS 2 bag)")
     slam.add_argument("log", help="a .clf/.log CARMEN file, a .bag, or a rosbag2 folder/.db3/.mcap")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from os import PathLike
 from pathlib import Path
+from typing import Any
 
 from ..core.errors import BtnavError
 from ..sim.frames import world_frame_tree
@@ -17,8 +18,12 @@ from . import EXIT_OK
 
 def show_world_main(world_path: str | PathLike[str], out_png: str | PathLike[str]) -> int:
     """Draw the world, the robot at its start and one scan into `out_png`."""
-    fig = world_figure(world_path)
-    out = Path(out_png)
+    save_figure(world_figure(world_path), Path(out_png))
+    return EXIT_OK
+
+
+def save_figure(fig: Any, out: Path) -> None:
+    """Save a figure; a folder or file that cannot be written is a located `BtnavError`."""
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -28,7 +33,6 @@ def show_world_main(world_path: str | PathLike[str], out_png: str | PathLike[str
     except OSError as exc:
         raise BtnavError(f"cannot write the picture: {exc.strerror or exc}", file=out) from None
     print(f"wrote {out}")
-    return EXIT_OK
 
 
 def world_frames_main(world_path: str | PathLike[str]) -> int:
