@@ -1,6 +1,6 @@
 """The real-time factor of the whole closed loop: the office tour with the default stack.
 
-    python bench/closed_loop.py [--runs 3] [--only mppi|rpp] [--profile]
+    python bench/closed_loop.py [--runs 3] [--only mppi|rpp|explore] [--profile]
 
 The office tour (the demo mission): worlds/small_office.yaml, Nav2's own
 params/nav2_params.yaml, maps/small_office.yaml, ground-truth localisation, seed 0,
@@ -18,6 +18,11 @@ more run with the runtime's profiling hook on (`runtime.profile = {}`): physics,
 odometry, lidar, local and global costmap (scan intake included), planner (and
 smoother), controller, behaviours, tree (bt_navigator and waypoint follower) and
 other (localiser, scheduler, the loop). numpy runs single-threaded: one core.
+
+Exploring (issue 15): missions/map_office.yaml, the office explored with SLAM
+(slam_toolbox's defaults) and MPPI until no reachable frontier is left: its real-time
+factor, the free area mapped per wall second, and the share of its reachable free
+space mapped, with the wall time of the components that take most.
 
 The tree's own cost, from the same profiled run: the median wall time of one tick of
 NavigateToPose's tree (`root.tick_once()`, every 10 ms of sim time; target 10 us) and
@@ -181,6 +186,46 @@ def bench(controller: str, runs: int, tmp: Path) -> float:
     return ratio
 
 
+def bench_explore(runs: int) -> None:
+    """The office explored with SLAM: real-time factor, m² mapped per wall second, coverage."""
+    from btnav.exploration.coverage import coverage
+    from btnav.mission import Mission
+    from btnav.mission.runner import run_mission
+    from btnav.sim.rasterize import rasterize
+    from btnav.sim.world_spec import load_world_spec
+
+    mission_file = REPO / "missions" / "map_office.yaml"
+    best = None
+    for _ in range(runs):
+        report = run_mission(Mission.load(mission_file))
+        if best is None or report.real_time_factor > best.real_time_factor:
+            best = report
+    assert best is not None
+    nav = Mission.load(mission_file).navigator()
+    nav.runtime.profile = {}
+    t0 = time.perf_counter()
+    nav.explore()
+    nav.wait_until_done(TIMEOUT)
+    wall = time.perf_counter() - t0
+    truth = rasterize(load_world_spec(WORLD), 0.05)
+    grid = nav.stack.map_server.map
+    mapped = coverage(grid, truth, (1.0, 1.0))
+    print("EXPLORE: the office explored with SLAM (missions/map_office.yaml)")
+    print(
+        f"  result {best.status}, sim {best.sim_time:.1f} s, wall {best.wall_time:.2f} s"
+        f" (best of {runs}), collisions {best.collisions}"
+    )
+    print(
+        f"  real-time factor {best.real_time_factor:8.1f} x   explored {best.explored_area:.1f} m²"
+        f"   {best.explored_area / best.wall_time:6.2f} m² per wall s"
+        f"   coverage {100 * mapped.fraction:.1f} % of the reachable free space"
+    )
+    print(f"  wall time by component (a profiled run, {wall:.2f} s):")
+    top = sorted(nav.runtime.profile.items(), key=lambda kv: -kv[1])[:8]
+    for label, seconds in top:
+        print(f"    {label:<40s} {100 * seconds / wall:5.1f} %")
+
+
 def tree_tick(prof: Tour) -> None:
     """The tree's lines: a tick's median wall time, and the tree's share against targets."""
     if not prof.ticks:
@@ -212,10 +257,10 @@ def profile_tour(controller: str, tmp: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=3, help="timed runs per controller (best counts)")
-    ap.add_argument("--only", choices=sorted(TARGETS), help="one controller only")
+    ap.add_argument("--only", choices=[*sorted(TARGETS), "explore"], help="one part only")
     ap.add_argument("--profile", action="store_true", help="profile one tour with pyinstrument")
     args = ap.parse_args(argv)
-    controllers = [args.only] if args.only else ["mppi", "rpp"]
+    controllers = [args.only] if args.only in TARGETS else [] if args.only else ["mppi", "rpp"]
     print(f"btnav closed loop, one core (numpy {np.__version__}, Python {sys.version.split()[0]})")
     with tempfile.TemporaryDirectory() as tmp:
         if args.profile:
@@ -224,6 +269,8 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         for c in controllers:
             bench(c, max(1, args.runs), Path(tmp))
+    if args.only in (None, "explore") and not args.profile:
+        bench_explore(max(1, args.runs))
     return 0
 
 
