@@ -79,3 +79,24 @@ def test_readme_params_check_example_is_what_params_check_prints(tmp_path, capsy
     monkeypatch.chdir(tmp_path)
     assert main(command.split()[2:]) == 2  # "$ btnav params check FILE"
     assert capsys.readouterr().err.strip() == claimed
+
+
+def test_every_btnav_command_in_the_readme_parses_and_names_files_that_exist():
+    """The shell lines a reader copies: each `btnav ...` is a command btnav has, and each
+    mission, params file, tree or world it names is in the repository."""
+    from btnav.cli import build_parser
+
+    text = (REPO / "README.md").read_text()
+    lines = []
+    for block in re.findall(r"```bash\n(.*?)```", text, re.S):
+        for line in block.replace("\\\n", " ").splitlines():
+            for part in line.split("#")[0].split("&&"):
+                if part.strip().startswith("btnav "):
+                    lines.append(part.split()[1:])
+    assert len(lines) >= 8
+    parser = build_parser()
+    for argv in lines:
+        parser.parse_args(argv)  # an unknown command or option exits (fails the test)
+        for arg in argv:
+            if arg.startswith(("missions/", "params/", "worlds/", "plugins/", "trees/")):
+                assert (REPO / arg).exists(), f"README names {arg}, which is not there"

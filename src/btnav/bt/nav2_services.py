@@ -43,6 +43,8 @@ class BtServiceNode(Nav2Leaf):
 
     #: The service used when `service_name` is not given ("" = it must be given).
     SERVICE: ClassVar[str] = ""
+    #: The last service name found among the stack's (looked up once, not every tick).
+    _known: str | None = None
 
     @property
     def service_name(self) -> str:
@@ -69,14 +71,17 @@ class BtServiceNode(Nav2Leaf):
             )
 
     def update(self) -> Status:
-        services = self.available()
         name = self.service_name
+        if name and self.stack is not None and self._known == name:
+            return self.call(name)  # found before: services do not go away
+        services = self.available()
         if services is None:
             self.feedback_message = "no stack: load the tree with context={'stack': nav_stack}"
             return F
         if not name or not self.has_service(name, services):
             self.feedback_message = f"no service '{name}'; services: {', '.join(services)}"
             return F
+        self._known = name
         return self.call(name)
 
     def call(self, name: str) -> Status:
