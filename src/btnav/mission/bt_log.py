@@ -60,7 +60,7 @@ class BtLog:
             if "status_listener" in node.__dict__:
                 node.status_listener = None
         self._root = root
-        self._nodes = list(_depth_first(root))
+        self._nodes = list(depth_first(root))
         self._uid = {id(node): uid for uid, node in enumerate(self._nodes)}
         self._last = [Status.INVALID] * len(self._nodes)  # a tree starts idle
         for node in self._nodes:
@@ -89,8 +89,8 @@ class BtLog:
         self.sink.write(json.dumps(record) + "\n")
 
 
-def _depth_first(node: Any) -> Any:
+def depth_first(node: Any) -> Any:
     """The node, then its children's subtrees in order (BT.CPP's uid order)."""
     yield node
     for child in node.children:
-        yield from _depth_first(child)
+        yield from depth_first(child)

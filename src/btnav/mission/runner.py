@@ -113,7 +113,7 @@ def run_mission(
             result = nav.get_result()
         wall = time.perf_counter() - wall0
 
-    report = _report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
+    report = build_report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
     if out is not None:
         if "map" in outputs and nav.stack.map_server.map is not None:
             nav.save_map(out / output_files("map")[0])
@@ -124,7 +124,7 @@ def run_mission(
     return report
 
 
-def _report(
+def build_report(
     mission: Mission,
     nav: BasicNavigator,
     result: NavResult | None,
@@ -134,6 +134,7 @@ def _report(
     limit_reached: bool,
     outputs: list[str],
 ) -> RunReport:
+    """The run's report from what its recorders kept (also for a run driven by hand)."""
     if result is None:  # a goal rejected outright, or a cancel that did not end in time
         status, code, msg = "failed", None, "the task did not start or did not end"
     else:

@@ -16,7 +16,7 @@ from typing import Any, TextIO
 from ..mission.bt_log import BtLog
 from ..mission.counters import NavigationCounters
 from ..mission.navigator import Navigator
-from ..mission.runner import _report
+from ..mission.runner import build_report
 from ..mission.trajectory import TrajectoryRecorder
 
 
@@ -79,7 +79,7 @@ class RecordedNavigator(Navigator):
             return
         wall = time.perf_counter() - self._wall0
         outputs: list[Any] = []
-        report = _report(
+        report = build_report(
             self.mission, self, result, self._recorder, self._counters, wall, False, outputs
         )
         report.write(self.out_dir / "report.json")

@@ -37,7 +37,7 @@ from py_trees.common import Status
 
 from ..core.messages import LaserScan
 from ..localization.amcl.amcl import Amcl
-from ..mission.bt_log import STATUS_NAMES, BtLog, _depth_first
+from ..mission.bt_log import STATUS_NAMES, BtLog, depth_first
 from ..mission.outputs import RunOutput
 from ..nav.runtime import Stage
 from ..plugins import register
@@ -270,7 +270,7 @@ class BagBtLog(BtLog):
 
     def _attach(self, root: Any) -> None:
         self.detach()
-        before = {id(n): n.__dict__.get("status_listener") for n in _depth_first(root)}
+        before = {id(n): n.__dict__.get("status_listener") for n in depth_first(root)}
         super()._attach(root)
         self._before = before
         for node in self._nodes:
