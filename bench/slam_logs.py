@@ -22,8 +22,9 @@ No assertions: it reports.
 Scan geometry (`--angle-increment-deg`): the Intel logs declare 180 beams from -90 to
 +90 degrees, pi/179 apart, but their scans are consistent only at 1 degree apart (from
 -90 to +89): matching pairs of scans against the relations, the heading error grows by
-0.56% of the turn (= 180/179 - 1) with pi/179 and by -0.08% with 1 degree. `auto`
-(default) applies 1 degree to a 180-beam scan that declares pi/179, and says so;
+0.56% of the turn (= 180/179 - 1) with pi/179 and by -0.08% with 1 degree. The CARMEN
+reader reads the .clf at 1 degree (CARMEN's default resolution); the bag declares
+pi/179, and `auto` (default) applies 1 degree to a 180-beam scan that does, and says so;
 `declared` keeps the log's geometry; a number sets every scan's beam spacing.
 """
 

@@ -70,6 +70,16 @@ def test_flaser_without_odom_lines_uses_its_odometry_fields(tmp_path: Path) -> N
     np.testing.assert_allclose(log.odom_at(10.5), [1.5, 2.0, 1.0])
 
 
+def test_180_flaser_beams_without_params_are_one_degree_apart(tmp_path: Path) -> None:
+    log = read_log(
+        write(tmp_path, "FLASER 180 " + " ".join(["3.0"] * 180) + " 0 0 0 0 0 0 5.0 h 5.0\n")
+    )
+    scan = log.scans[0]
+    assert scan.angle_min == pytest.approx(-math.pi / 2)
+    assert scan.angle_increment == pytest.approx(math.radians(1.0))
+    assert scan.angle_max == pytest.approx(math.radians(89.0))
+
+
 def test_flaser_geometry_and_mount_from_params(tmp_path: Path) -> None:
     text = (
         "PARAM laser_front_laser_resolution 1.0\n"
@@ -409,9 +419,10 @@ def test_intel_clf_and_bag_read_to_the_same_log() -> None:
     assert clf.duration == pytest.approx(2691.3, abs=0.1)
     np.testing.assert_allclose(clf.scan_stamps, bag.scan_stamps, rtol=0, atol=1e-6)
     a, b = clf.scans[100], bag.scans[100]
-    assert (a.angle_min, a.angle_max, a.angle_increment) == pytest.approx(
-        (b.angle_min, b.angle_max, b.angle_increment), abs=1e-6
-    )
+    # the same first beam; CARMEN's 1-degree spacing for the .clf, the pi/179 the bag declares
+    assert a.angle_min == pytest.approx(b.angle_min, abs=1e-6)
+    assert a.angle_increment == pytest.approx(math.radians(1.0))
+    assert b.angle_increment == pytest.approx(math.pi / 179, abs=1e-6)
     r_clf = np.stack([s.ranges for s in clf.scans])
     r_bag = np.stack([s.ranges for s in bag.scans])
     assert r_clf.shape == (13631, 180)

@@ -46,6 +46,21 @@ def test_slam_on_a_carmen_log_writes_map_trajectory_and_graph(tmp_path, capsys):
 
 
 @needs_intel
+def test_an_odometry_trajectory_agrees_with_the_matched_one_at_the_nodes(tmp_path, capsys):
+    log = head_of_intel(tmp_path, scans=150)
+    for kind in ("matched", "odometry"):
+        argv = ["slam", str(log), "-o", str(tmp_path / kind), "--trajectory", kind]
+        assert main(argv) == 0
+    matched, odometry = (
+        np.loadtxt(tmp_path / k / "trajectory.csv", delimiter=",", skiprows=1)
+        for k in ("matched", "odometry")
+    )
+    assert matched.shape == odometry.shape == (150, 4)
+    gap = np.hypot(*(matched[:, 1:3] - odometry[:, 1:3]).T)
+    assert np.median(gap) < 0.05 and gap.max() < 0.5  # the same run, placed two ways
+
+
+@needs_intel
 def test_a_broken_log_line_is_one_error_and_nothing_is_written(tmp_path, capsys):
     log = head_of_intel(tmp_path, scans=50)
     lines = log.read_text().splitlines(keepends=True)

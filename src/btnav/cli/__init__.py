@@ -57,7 +57,12 @@ def _slam(args: argparse.Namespace) -> int:
     from .slam import slam_main
 
     return slam_main(
-        args.log, args.params, args.output, scan_topic=args.scan_topic, odom_topic=args.odom_topic
+        args.log,
+        args.params,
+        args.output,
+        scan_topic=args.scan_topic,
+        odom_topic=args.odom_topic,
+        trajectory=args.trajectory,
     )
 
 
@@ -240,6 +245,12 @@ def build_parser() -> argparse.ArgumentParser:
     slam.add_argument("-o", "--output", required=True, help="the folder to write")
     slam.add_argument("--scan-topic", help="the LaserScan topic of a bag (when several)")
     slam.add_argument("--odom-topic", help="the Odometry topic of a bag (when several)")
+    slam.add_argument(
+        "--trajectory",
+        choices=("matched", "odometry"),
+        default="matched",
+        help="trajectory.csv: every scan matched to the map (default), or odometry between nodes",
+    )
     slam.set_defaults(func=_slam)
 
     tree = _group(sub, "tree", "behaviour trees (Nav2 XML or btnav YAML)")

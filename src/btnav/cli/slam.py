@@ -1,7 +1,9 @@
 """`btnav slam LOG --params P -o OUT/`: SLAM on a recorded log, as slam_toolbox on a bag.
 
 Writes `OUT/map.yaml` + `map.pgm`, `OUT/trajectory.csv` and `OUT/pose_graph.npz`
-(`slam.offline_files`). Every input is read and checked before anything is written.
+(`slam.offline_files`). `--trajectory matched` (default) places every scan by matching
+it against the final map; `odometry` places the scans between graph nodes by odometry
+from the nearest node (what slam_toolbox's map -> odom gives between processed scans). Every input is read and checked before anything is written.
 On a terminal a progress bar shows while the log is read and its scans matched; the
 summary line is all a log file gets.
 """
@@ -42,6 +44,7 @@ def slam_main(
     *,
     scan_topic: str | None = None,
     odom_topic: str | None = None,
+    trajectory: str = "matched",
 ) -> int:
     params = slam_params(params_path)
     bar, update = _progress("reading")
@@ -51,7 +54,7 @@ def slam_main(
         log = read_log(log_path, scan_topic=scan_topic, odom_topic=odom_topic, progress=update)
         if bar is not None:
             bar.update(bar.task_ids[0], description="scans")
-        result = run_slam(log, params, progress=update)
+        result = run_slam(log, params, progress=update, trajectory=trajectory)  # type: ignore[arg-type]
     finally:
         if bar is not None:
             bar.stop()

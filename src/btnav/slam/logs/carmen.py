@@ -4,9 +4,12 @@
 One message a line, the message name first; `#` starts a comment line. Read here:
 
 - `FLASER n r1..rn x y theta odom_x odom_y odom_theta ipc_timestamp host logger_timestamp`:
-  the front laser; its field of view is 180 degrees from -90 degrees (n beams from
-  -90 to +90 degrees, as the ROS bags of these logs declare), unless PARAM lines
-  `laser_front_laser_fov` / `laser_front_laser_resolution` (degrees) say otherwise.
+  the front laser; its field of view is 180 degrees from -90 degrees, unless PARAM
+  lines `laser_front_laser_fov` / `laser_front_laser_resolution` (degrees) say
+  otherwise. Without a resolution, 180 beams are 1 degree apart (-90 to +89, CARMEN's
+  default resolution; the ROS bags of these logs declare pi/179, which bends the
+  Intel log's corridors: the heading error grows by 0.56% of every turn with it,
+  -0.08% with 1 degree), and a beam count that is no such resolution spans the field.
   `x y theta` is the laser's pose as the logging robot believed it (in some logs
   already corrected by a localiser), `odom_x odom_y odom_theta` the raw odometry.
 - `ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range
@@ -285,6 +288,16 @@ def _params(log: _Lines, idx: list[int]) -> dict[str, float]:
     return out
 
 
+def _flaser_spacing(fov: float, n: int) -> float:
+    """CARMEN's beam spacing when no PARAM gives it: a laser resolution (1, 0.5 or 0.25
+    degrees) when the beams are the field of view at that resolution with the last beam
+    left out (180 beams on 180 degrees: -90 to +89, as CARMEN and GMapping read them),
+    else the beams span the whole field of view."""
+    if n > 1 and any(math.isclose(math.degrees(fov) / n, r) for r in (1.0, 0.5, 0.25)):
+        return fov / n
+    return fov / (n - 1) if n > 1 else 0.0
+
+
 def _scans_from_flaser(
     blocks: list[tuple[list[int], int, NDArray[np.float64]]], params: dict[str, float]
 ) -> tuple[list[tuple[int, LaserScan]], NDArray[np.float64], NDArray[np.float64]]:
@@ -295,7 +308,7 @@ def _scans_from_flaser(
     scans: list[tuple[int, LaserScan]] = []
     odom, stamps = [], []
     for lines, n, v in blocks:
-        inc = math.radians(res) if res is not None else (fov / (n - 1) if n > 1 else 0.0)
+        inc = math.radians(res) if res is not None else _flaser_spacing(fov, n)
         a_min = -0.5 * fov
         ranges = rep117_ranges(v[:, :n], 0.0, max_range)
         odom.append(v[:, n + 3 : n + 6])
