@@ -142,12 +142,6 @@ def test_weight_and_power_act_on_the_normalised_term():
     assert (data.costs == 0).all() and not data.fail_flag
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav cost_critic.py:62 compares near_goal_distance with the straight-line "
-    "distance to the goal (critic_data.py:66 distance_to_goal); Nav2 compares it with "
-    "state.local_path_length, the length of the pruned path",
-)
 def test_near_goal_is_judged_by_path_length():
     trajs, cm = scene()
     # An L-shaped detour: the goal is 0.4 m away in a straight line but 0.8 m along the path.

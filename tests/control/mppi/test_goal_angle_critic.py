@@ -95,12 +95,6 @@ def test_weight_and_power():
     assert (data.costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav goal_angle_critic.py:27 compares threshold_to_consider with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length, the length of the pruned path",
-)
 def test_switch_is_judged_by_the_path_length():
     # The goal 0.3 m away in a straight line but 0.7 m along the path.
     path = polyline((0.0, 0.0), (0.0, 0.2), (0.3, 0.2), (0.3, 0.0))
@@ -110,11 +104,6 @@ def test_switch_is_judged_by_the_path_length():
     assert data.costs[0] == 0.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav goal_angle_critic.py:27 skips when distance >= threshold_to_consider; Nav2 "
-    "skips only when local_path_length > threshold_to_consider, so it is on at the threshold",
-)
 def test_on_at_exactly_the_threshold():
     path = straight_path(0.5)
     path[-1, 2] = 1.0

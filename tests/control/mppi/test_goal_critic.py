@@ -78,12 +78,6 @@ def test_weight_and_power():
     assert (data.costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav goal_critic.py:23 compares threshold_to_consider with the straight-line "
-    "distance to the goal (critic_data.py:66); Nav2 compares state.local_path_length, the "
-    "length of the pruned path",
-)
 def test_switch_is_judged_by_the_path_length():
     # Around a wall: the goal is 1.0 m away in a straight line, 2.0 m along the path.
     path = polyline((0.0, 0.0), (0.0, 0.5), (1.0, 0.5), (1.0, 0.0))
@@ -93,11 +87,6 @@ def test_switch_is_judged_by_the_path_length():
     assert data.costs[0] == 0.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav goal_critic.py:23 skips when distance >= threshold_to_consider; Nav2 skips "
-    "only when local_path_length > threshold_to_consider, so it is on at the threshold",
-)
 def test_on_at_exactly_the_threshold():
     # 1.5 m (exact in float32 and float64) of straight path, threshold 1.5.
     data = make_data([np.zeros((T, 3))], path=straight_path(1.5))

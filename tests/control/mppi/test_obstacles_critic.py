@@ -181,11 +181,6 @@ def test_collision_cost_is_weighted_by_the_critical_weight():
     assert data.costs[1] == pytest.approx(CRITICAL_W * COLLISION, rel=1e-6)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav obstacles_critic.py:75 compares near_goal_distance with the straight-line "
-    "distance to the goal (critic_data.py:66); Nav2 compares state.local_path_length",
-)
 def test_near_goal_is_judged_by_path_length():
     trajs, cm = scene()
     # 0.4 m to the goal in a straight line, 0.8 m along the path: not near the goal.

@@ -89,7 +89,10 @@ def test_near_the_goal_it_is_off():
 def test_off_until_the_rollouts_reach_offset_from_furthest():
     short = [line(0.0, 0.2, 0.0, 0.05, T)]  # reaches x = 0.6 (point 12) only
     assert (scored(short).costs == 0).all()
-    assert scored(short, offset_from_furthest=12).costs[0] == pytest.approx(2.0, abs=1e-4)
+    # Aligned with points 0-11 only (those before the furthest): 0.2, 0.2, then 0.2 m
+    # beside and 5 cm past point 11 (0.55, 0).
+    expected = 10 * (0.2 + 0.2 + np.hypot(0.05, 0.2)) / 3
+    assert scored(short, offset_from_furthest=12).costs[0] == pytest.approx(expected, abs=1e-4)
 
 
 def test_a_blocked_path_point_is_skipped():
@@ -115,46 +118,24 @@ def test_use_path_orientations_adds_the_heading_error():
     assert data.costs[0] == pytest.approx(10 * 0.3, abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_align_critic.py:85-87 adds |dyaw| to the distance; Nav2 takes "
-    "sqrt(dx^2 + dy^2 + dyaw^2)",
-)
 def test_use_path_orientations_combines_as_a_euclidean_norm():
     offset_turned = line(0.0, 0.2, 0.0, 0.1, T, yaw=0.15)
     data = scored([offset_turned, rollouts()[4]], use_path_orientations=True)
     assert data.costs[0] == pytest.approx(10 * np.hypot(0.2, 0.15), abs=1e-4)  # 2.5
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_align_critic.py:70-72,82 aligns against the whole pruned path; Nav2 "
-    "only against the path points before the furthest reached one, so a rollout that "
-    "travels further is compared with that last point",
-)
 def test_alignment_uses_the_path_up_to_the_furthest_point():
     data = scored()
     # d travels 1.8 m: Nav2's path stops at point 35 (1.75 m), 5 cm short at the last sample.
     assert data.costs[4] == pytest.approx(10 * 0.05 / 3, abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_align_critic.py:67-68 measures the blocked share over the whole "
-    "path; Nav2 only over the points up to the furthest reached one",
-)
 def test_obstacles_beyond_the_furthest_point_do_not_switch_it_off():
     # Eleven points blocked at 2.25-2.75 m, beyond the furthest reached point (1.8 m).
     cm = paint(costmap(), [(0.05 * i, 0.0) for i in range(45, 56)], LETHAL_OBSTACLE)
     assert scored(cm=cm).costs[1] == pytest.approx(2.0, abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_align_critic.py:62 compares threshold_to_consider with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length",
-)
 def test_switch_is_judged_by_the_path_length():
     # A U-turn: the goal is 0.3 m away in a straight line, 1.5 m along the path.
     path = polyline((0.0, 0.0), (0.6, 0.0), (0.6, 0.3), (0.0, 0.3))

@@ -152,12 +152,6 @@ def test_no_directional_preference_without_reversing_is_forward_preference():
     assert data.costs[0] == pytest.approx(W * TO_TARGET, abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_angle_critic.py:51 compares threshold_to_consider with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length",
-)
 def test_switch_is_judged_by_the_path_length():
     # Round a corner: the goal is 0.22 m away in a straight line, 0.7 m along the path.
     path = polyline((0.0, 0.0), (0.0, 0.3), (-0.2, 0.3), (-0.2, 0.1))

@@ -84,12 +84,6 @@ def test_weight_and_power():
     assert (scored(enabled=False).costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_follow_critic.py:29 compares threshold_to_consider with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length",
-)
 def test_switch_is_judged_by_the_path_length():
     # A U-turn: the goal is 0.5 m away in a straight line, 2.5 m along the path.
     path = polyline((0.0, 0.0), (1.0, 0.0), (1.0, 0.5), (0.0, 0.5))
@@ -98,13 +92,6 @@ def test_switch_is_judged_by_the_path_length():
     assert data.costs[0] == pytest.approx(5 * 0.3, abs=1e-4)  # target point 16, (0.8, 0)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav critic_data.py:72-81 (furthest_reached_path_point) takes the path point "
-    "nearest each rollout's end over the whole path; Nav2 searches only the points no "
-    "further along the path than the rollout's own length, so a rollout cannot 'reach' "
-    "the return leg of a U-turn by cutting across",
-)
 def test_furthest_point_is_bounded_by_the_distance_travelled():
     # A U-turn corridor: out 1 m along y = 0, across 0.3 m, back along y = 0.3 to x = -1.5.
     path = polyline((0.0, 0.0), (1.0, 0.0), (1.0, 0.3), (-1.5, 0.3))

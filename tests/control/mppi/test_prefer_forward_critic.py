@@ -60,12 +60,6 @@ def test_weight_and_power():
     assert (scored(enabled=False).costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav prefer_forward_critic.py:22 compares threshold_to_consider with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length",
-)
 def test_switch_is_judged_by_the_path_length():
     # The goal 0.3 m away in a straight line, 0.7 m along the path.
     path = polyline((0.0, 0.0), (0.0, 0.2), (0.3, 0.2), (0.3, 0.0))

@@ -62,12 +62,6 @@ def test_weight_and_power():
     assert (scored(enabled=False).costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav twirling_critic.py:28 compares the xy tolerance with the "
-    "straight-line distance to the goal (critic_data.py:66); Nav2 compares "
-    "state.local_path_length",
-)
 def test_switch_is_judged_by_the_path_length():
     # The goal 0.2 m away in a straight line, 0.4 m along the path: outside 0.25 m.
     path = polyline((0.0, 0.0), (0.0, 0.1), (0.2, 0.1), (0.2, 0.0))

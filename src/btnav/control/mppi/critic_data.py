@@ -1,8 +1,15 @@
 """What every critic sees in one optimisation iteration (mppi::CriticData), plus shared lookups.
 
 Batch arrays are `(batch_size, time_steps)` float32 views. Lazily computed and
-shared between critics (as Nav2 caches them in CriticData): the path point the
-batch reaches furthest, and which path points are in collision.
+shared between critics (as Nav2 caches them in CriticData and State): the length
+of the pruned path, the path point the batch reaches furthest, and which path
+points are in collision.
+
+"Near the goal" is judged by the length of the pruned path still ahead
+(`local_path_length`, Nav2's `state.local_path_length`), never by the straight-line
+distance: around a bend or an obstacle the goal can be close in a straight line
+while the path to it is still long, and the path critics must keep the robot on
+the path until the path itself is short.
 """
 
 from __future__ import annotations
@@ -36,7 +43,7 @@ class CriticData:
     yaws: F32
     #: (P, 3) pruned path (x, y, yaw) in the costmap's frame, from the point nearest the robot.
     path: NDArray[np.float32]
-    #: The global goal (x, y, yaw): the last pose of the whole plan.
+    #: The global goal (x, y, yaw): the last pose of the whole plan (or its next cusp).
     goal: NDArray[np.float64]
     robot: NDArray[np.float64]  # x, y, yaw
     robot_speed: tuple[float, float, float]  # vx, vy, wz
@@ -53,7 +60,7 @@ class CriticData:
     fail_flag: bool = False
     _furthest: int | None = field(default=None, repr=False)
     _valid: NDArray[np.bool_] | None = field(default=None, repr=False)
-    _goal_dist: float | None = field(default=None, repr=False)
+    _path_length: float | None = field(default=None, repr=False)
 
     @property
     def batch_size(self) -> int:
@@ -63,20 +70,46 @@ class CriticData:
     def time_steps(self) -> int:
         return int(self.x.shape[1])
 
-    def distance_to_goal(self) -> float:
-        """Robot to the global goal (what `threshold_to_consider` is compared with)."""
-        if self._goal_dist is None:
-            self._goal_dist = fmath.hypot(*(self.goal[:2] - self.robot[:2]).tolist())
-        return self._goal_dist
+    def local_path_length(self) -> float:
+        """Length of the pruned path (what `threshold_to_consider` and `near_goal_distance`
+        are compared with, as Nav2's critics compare `state.local_path_length`).
+
+        Summed in float64 from the float32 points: along a straight path the partial
+        sums telescope exactly, so a 1.5 m path measures 1.5, not 1.5000001."""
+        if self._path_length is None:
+            p = self.path[:, :2].astype(np.float64)
+            d = p[1:] - p[:-1]
+            self._path_length = float(fmath.hypot(d[:, 0], d[:, 1]).sum()) if len(d) else 0.0
+        return self._path_length
+
+    def path_end(self) -> NDArray[np.float32]:
+        """The pruned path's last pose (x, y, yaw): what GoalCritic and GoalAngleCritic
+        approach (Nav2's `utils::getLastPathPose`); the goal once the path reaches it."""
+        return self.path[-1] if len(self.path) else self.goal.astype(np.float32)
 
     def furthest_reached_path_point(self) -> int:
-        """The path index nearest to the end of the rollout that gets furthest along the path."""
+        """The furthest path index any rollout reaches (Nav2's findPathFurthestReachedPoint).
+
+        Per rollout: the path point nearest its end, among the points no further along
+        the path than the rollout's own length (so a rollout cannot "reach" the far leg
+        of a bend or a U-turn by cutting across); the largest over the batch."""
         if self._furthest is None:
             px, py = self.path[:, 0], self.path[:, 1]
+            n = len(px)
+            if n == 0:
+                self._furthest = 0
+                return 0
+            seg = fmath.hypot(px[1:] - px[:-1], py[1:] - py[:-1])
+            path_s = np.concatenate([[np.float32(0.0)], np.cumsum(seg, dtype=np.float32)])
+            dx, dy = self.x[:, 1:] - self.x[:, :-1], self.y[:, 1:] - self.y[:, :-1]
+            travelled = fmath.hypot(dx, dy).sum(axis=1, dtype=np.float32)
+            # lower_bound: the first path point at least as far along as the rollout went
+            reach = np.minimum(np.searchsorted(path_s, travelled, side="left"), n - 1)
             ex, ey = self.x[:, -1], self.y[:, -1]
             # (B, P) squared distances from each rollout's end to each path point.
             d = (ex[:, None] - px[None, :]) ** 2 + (ey[:, None] - py[None, :]) ** 2
-            self._furthest = int(np.argmin(d, axis=1).max()) if len(px) else 0
+            d[np.arange(n)[None, :] > reach[:, None]] = np.inf
+            self._furthest = int(np.argmin(d, axis=1).max())
         return self._furthest
 
     def path_points_valid(self) -> NDArray[np.bool_]:

@@ -17,8 +17,8 @@ class CostCritic(CriticFunction):
 
     Per rollout: a point in collision makes the whole rollout cost `collision_cost`;
     otherwise each point at or above `near_collision_cost` adds `critical_cost`, and
-    (farther than `near_goal_distance` from the goal) every other point adds its cell
-    cost. The sum is scaled by `cost_weight / 254` per evaluated point, as Nav2 does, so
+    (while the pruned path is at least `near_goal_distance` long) every other point adds
+    its cell cost. The sum is scaled by `cost_weight / 254` per evaluated point, as Nav2 does, so
     the weights of Nav2's params mean the same. When every rollout collides, the
     iteration fails (the controller soft-resets and retries, then gives up).
 
@@ -59,7 +59,7 @@ class CostCritic(CriticFunction):
             tracking_unknown=tracking_unknown(data.costmap),
         )
         collide = collide_pt.any(axis=1)
-        near_goal = data.distance_to_goal() < p.near_goal_distance
+        near_goal = data.local_path_length() < p.near_goal_distance
         critical = costs >= p.near_collision_cost
         if near_goal:
             point_cost = np.where(critical, np.float32(p.critical_cost), np.float32(0.0))

@@ -13,7 +13,8 @@ from ..critic_function import NAMESPACE, CriticFunction
 
 @register("critic", NAMESPACE + "GoalAngleCritic")
 class GoalAngleCritic(CriticFunction):
-    """Within `threshold_to_consider` of the goal: mean |yaw - goal yaw| over the rollout.
+    """Once the pruned path is at most `threshold_to_consider` long: mean |yaw - goal yaw|
+    over the rollout (the goal: the path's last pose).
 
     `symmetric_yaw_tolerance` accepts the goal heading or its reverse, whichever is closer.
     """
@@ -24,9 +25,9 @@ class GoalAngleCritic(CriticFunction):
         symmetric_yaw_tolerance: bool = False
 
     def score(self, data: CriticData) -> None:
-        if not self.enabled or data.distance_to_goal() >= self.params.threshold_to_consider:
+        if not self.enabled or data.local_path_length() > self.params.threshold_to_consider:
             return
-        err = abs_angle_diff(data.yaws, np.float32(data.goal[2]))
+        err = abs_angle_diff(data.yaws, np.float32(data.path_end()[2]))
         if self.params.symmetric_yaw_tolerance:
             err = np.minimum(err, np.float32(np.pi) - err)
         self.add(data, err.mean(axis=1))

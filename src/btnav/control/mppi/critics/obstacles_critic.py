@@ -18,7 +18,8 @@ from ..critic_function import NAMESPACE, CriticFunction
 class ObstaclesCritic(CriticFunction):
     """Inverts the inflation layer's exponential decay to get a distance to the nearest
     obstacle at each rollout point; rollouts closer than `collision_margin_distance`
-    pay `critical_weight` per metre inside the margin, others (away from the goal)
+    pay `critical_weight` per metre inside the margin, others (while the pruned path is
+    at least `near_goal_distance` long)
     `repulsion_weight` per metre inside `inflation_radius`; a collision costs
     `collision_cost`. Circle only (see `critic_data.in_collision`).
 
@@ -72,7 +73,7 @@ class ObstaclesCritic(CriticFunction):
         margin = np.float32(p.collision_margin_distance)
         critical = np.where(dist < margin, margin - dist, np.float32(0.0)).sum(axis=1)
         repulsive = np.zeros_like(critical)
-        if data.distance_to_goal() >= p.near_goal_distance:
+        if data.local_path_length() >= p.near_goal_distance:
             repulsive = np.maximum(np.float32(p.inflation_radius) - dist, 0).sum(axis=1)
         n = np.float32(costs.shape[1])
         raw = (

@@ -41,11 +41,14 @@ class PathAlignCritic(CriticFunction):
     """Mean distance from every `trajectory_point_step`-th rollout point to the path point
     at the same distance travelled (arc length along the rollout vs along the path).
 
-    Applied only while tracking the path: farther than `threshold_to_consider` from
-    the goal, once the batch reaches `offset_from_furthest` points along the path,
-    and while at most `max_path_occupancy_ratio` of the path is blocked (so the
-    robot may leave the path around a new obstacle). Path points in collision are
-    skipped. `use_path_orientations` adds the heading error to the path's yaw.
+    Applied only while tracking the path: while the pruned path is at least
+    `threshold_to_consider` long, once the batch reaches `offset_from_furthest` points
+    along the path, and while at most `max_path_occupancy_ratio` of the path up to the
+    furthest reached point is blocked (so the robot may leave the path around a new
+    obstacle). Only that reached part of the path is aligned with: a rollout that
+    travels further is compared with its last point. Path points in collision are
+    skipped. `use_path_orientations` adds the heading error to the path's yaw, as a
+    third coordinate of the distance.
     """
 
     class Params(CriticFunction.Params):
@@ -59,15 +62,17 @@ class PathAlignCritic(CriticFunction):
     def score(self, data: CriticData) -> None:
         p = self.params
         n = len(data.path)
-        if not self.enabled or n < 2 or data.distance_to_goal() < p.threshold_to_consider:
+        if not self.enabled or n < 2 or data.local_path_length() < p.threshold_to_consider:
             return
-        if data.furthest_reached_path_point() < p.offset_from_furthest:
+        # Align only with the path the batch reaches: points before the furthest one.
+        furthest = data.furthest_reached_path_point()
+        if furthest < max(p.offset_from_furthest, 1):
             return
-        valid = data.path_points_valid()
-        blocked = int((~valid[: n - 1]).sum())
-        if blocked > 2 and blocked / (n - 1) > p.max_path_occupancy_ratio:
+        valid = data.path_points_valid()[:furthest]
+        blocked = int((~valid).sum())
+        if blocked > 2 and blocked / furthest > p.max_path_occupancy_ratio:
             return
-        path = data.path
+        path = data.path[:furthest]
         seg = fmath.hypot(np.diff(path[:, 0]), np.diff(path[:, 1]))
         path_s = np.concatenate([[0.0], np.cumsum(seg)]).astype(np.float32)
         step = p.trajectory_point_step
@@ -81,10 +86,13 @@ class PathAlignCritic(CriticFunction):
         xs, ys = xs[1:], ys[1:]
         idx = nearest_by_arc_length(path_s, traj_s)
         px, py = np.ascontiguousarray(path[:, 0]), np.ascontiguousarray(path[:, 1])
-        d = fmath.hypot(xs - px[idx], ys - py[idx])
+        dx, dy = xs - px[idx], ys - py[idx]
         if p.use_path_orientations:
             yaws = data.yaws.T[::step][1:]
-            d = d + abs_angle_diff(yaws, np.ascontiguousarray(path[:, 2])[idx])
+            dyaw = abs_angle_diff(yaws, np.ascontiguousarray(path[:, 2])[idx])
+            d = np.sqrt(dx * dx + dy * dy + dyaw * dyaw)
+        else:
+            d = fmath.hypot(dx, dy)
         ok = valid[idx]
         count = ok.sum(axis=0)
         total = np.where(ok, d, np.float32(0.0)).sum(axis=0)

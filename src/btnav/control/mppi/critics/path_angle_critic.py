@@ -48,7 +48,7 @@ class PathAngleCritic(CriticFunction):
     def score(self, data: CriticData) -> None:
         p = self.params
         n = len(data.path)
-        if not self.enabled or n < 2 or data.distance_to_goal() < p.threshold_to_consider:
+        if not self.enabled or n < 2 or data.local_path_length() < p.threshold_to_consider:
             return
         mode = p.mode
         if p.forward_preference is not None and "mode" not in p.model_fields_set:

@@ -15,8 +15,8 @@ class PathFollowCritic(CriticFunction):
     """Distance from each rollout's end to a path point ahead of the furthest one reached.
 
     The target is `offset_from_furthest` points past the path point that the best
-    rollout reaches, skipped forward past points in collision. Off within
-    `threshold_to_consider` of the goal, where GoalCritic takes over.
+    rollout reaches, skipped forward past points in collision. Off once the pruned path
+    is shorter than `threshold_to_consider`, where GoalCritic takes over.
     """
 
     class Params(CriticFunction.Params):
@@ -26,7 +26,11 @@ class PathFollowCritic(CriticFunction):
 
     def score(self, data: CriticData) -> None:
         n = len(data.path)
-        if not self.enabled or n < 2 or data.distance_to_goal() < self.params.threshold_to_consider:
+        if (
+            not self.enabled
+            or n < 2
+            or data.local_path_length() < self.params.threshold_to_consider
+        ):
             return
         idx = min(data.furthest_reached_path_point() + self.params.offset_from_furthest, n - 1)
         valid = data.path_points_valid()

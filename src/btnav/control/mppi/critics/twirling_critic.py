@@ -12,7 +12,8 @@ from ..critic_function import NAMESPACE, CriticFunction
 
 @register("critic", NAMESPACE + "TwirlingCritic")
 class TwirlingCritic(CriticFunction):
-    """Mean |wz| over the rollout, except once within the goal checker's xy tolerance."""
+    """Mean |wz| over the rollout, except once the pruned path is shorter than the goal
+    checker's xy tolerance."""
 
     class Params(CriticFunction.Params):
         cost_weight: float = Field(10.0, ge=0.0)
@@ -25,7 +26,7 @@ class TwirlingCritic(CriticFunction):
         if (
             checker is not None
             and hasattr(checker, "get_tolerances")
-            and data.distance_to_goal() < float(checker.get_tolerances()[0].x)
+            and data.local_path_length() < float(checker.get_tolerances()[0].x)
         ):
             return
         self.add(data, np.abs(data.wz).mean(axis=1))
