@@ -33,19 +33,7 @@ def mission(tmp_path: Path, **fields) -> Path:
     return path
 
 
-CARTOGRAPHER_STALLS = pytest.mark.xfail(
-    strict=True,
-    reason="with localization: cartographer MPPI drives the lower corridor at y 1.58 (not "
-    "1.2), stops 0.38 m above the second goal (11, 1.2) with ~0 commands until the "
-    "progress checker fails (105), then the path handler returns an empty plan (103, not "
-    "recoverable); localisation is within 1 cm and the saved map is free there: not yet "
-    "understood",
-)
-
-
-@pytest.mark.parametrize(
-    "localization", ["slam", pytest.param("cartographer", marks=CARTOGRAPHER_STALLS)]
-)
+@pytest.mark.parametrize("localization", ["slam", "cartographer"])
 def test_mapping_while_nav2_drives_reaches_every_goal_and_saves_the_map(tmp_path, localization):
     report = run_mission(Mission.load(mission(tmp_path, localization=localization)), tmp_path)
     assert report.status == "succeeded" and report.missed_waypoints == []

@@ -60,6 +60,11 @@ from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 F64 = NDArray[np.float64]
 #: IRLS rounds that turn btnav's least squares into Cartographer's Huber loss on loop closures.
 _HUBER_ROUNDS = 3
+#: A known cell more likely free than not is free on the live map: cartographer_ros
+#: publishes every known cell's probability (x100) and Nav2's static layer, trinary,
+#: takes any known value below its lethal threshold as free. With map_saver's 0.25 a
+#: young submap (misses at 0.49 each) would have no free cell at all.
+LIVE_MAP_FREE = 0.5
 #: cartographer_ros's occupancy_grid_node publishes /map this often (its -publish_period_sec).
 MAP_PUBLISH_PERIOD = 1.0
 
@@ -400,6 +405,8 @@ class CartographerSlam:
             subs = [s for s in self.local.submaps.submaps if s.index in self.mapper.anchors]
             poses = np.array([self.mapper.submap_pose(s.index) for s in subs])
             anchor = self.mapper.poses[0]
-            self._map = assemble_map(subs, poses, anchor, self.config.frames.map_frame)
+            self._map = assemble_map(
+                subs, poses, anchor, self.config.frames.map_frame, free=LIVE_MAP_FREE
+            )
             self._map_key = self._key()
         return self._map
