@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -153,35 +154,36 @@ def _path_costs(
     costs: NDArray[np.uint8], passable: NDArray[np.bool_], start: tuple[int, int], res: float
 ) -> NDArray[np.float64]:
     """The cheapest cost-weighted path length (m) from `start` to every passable cell."""
-    ny, nx = costs.shape
-    index = np.full((ny, nx), -1, dtype=np.int64)
-    index[passable] = np.arange(int(passable.sum()))
+    n = int(passable.sum())
+    index = np.full(costs.shape, -1, dtype=np.int64)
+    index[passable] = np.arange(n)
     weight = 1.0 + COST_WEIGHT * np.minimum(costs, 252).astype(float) / 252.0
     src, dst, w = [], [], []
     for dy, dx, length in _EDGES:
-        a = passable[max(-dy, 0) : ny - max(dy, 0), max(-dx, 0) : nx - max(dx, 0)]
-        b = passable[max(dy, 0) : ny - max(-dy, 0), max(dx, 0) : nx - max(-dx, 0)]
+        a, b = _neighbours(passable, dy, dx)
         both = a & b
-        ia = index[max(-dy, 0) : ny - max(dy, 0), max(-dx, 0) : nx - max(dx, 0)][both]
-        ib = index[max(dy, 0) : ny - max(-dy, 0), max(dx, 0) : nx - max(-dx, 0)][both]
-        wa = weight[max(-dy, 0) : ny - max(dy, 0), max(-dx, 0) : nx - max(dx, 0)][both]
-        wb = weight[max(dy, 0) : ny - max(-dy, 0), max(dx, 0) : nx - max(-dx, 0)][both]
+        ia, ib = (v[both] for v in _neighbours(index, dy, dx))
+        wa, wb = (v[both] for v in _neighbours(weight, dy, dx))
         src.append(ia)
         dst.append(ib)
         w.append(0.5 * (wa + wb) * (length * res))
-    n = int(passable.sum())
     graph = coo_matrix((np.concatenate(w), (np.concatenate(src), np.concatenate(dst))), (n, n))
     along = dijkstra(graph.tocsr(), directed=False, indices=int(index[start]))
-    out = np.full((ny, nx), np.inf)
+    out = np.full(costs.shape, np.inf)
     out[passable] = along
     return out
+
+
+def _neighbours(a: NDArray[Any], dy: int, dx: int) -> tuple[NDArray[Any], NDArray[Any]]:
+    """Two views of `a` of one shape: each cell, and its neighbour (dy, dx) at the same place."""
+    ny, nx = a.shape
+    here = a[max(-dy, 0) : ny - max(dy, 0), max(-dx, 0) : nx - max(dx, 0)]
+    there = a[max(dy, 0) : ny - max(-dy, 0), max(dx, 0) : nx - max(-dx, 0)]
+    return here, there
 
 
 def _shift(a: NDArray[np.float64], dy: int, dx: int, fill: float) -> NDArray[np.float64]:
     """`out[y, x] = a[y + dy, x + dx]` (fill off the grid)."""
     out = np.full_like(a, fill)
-    ny, nx = a.shape
-    out[max(-dy, 0) : ny - max(dy, 0), max(-dx, 0) : nx - max(dx, 0)] = a[
-        max(dy, 0) : ny - max(-dy, 0), max(dx, 0) : nx - max(-dx, 0)
-    ]
+    _neighbours(out, dy, dx)[0][...] = _neighbours(a, dy, dx)[1]
     return out

@@ -21,6 +21,12 @@ from .errors import MissionError
 STAGES = "stages"
 
 
+def mission_name(doc: Any, file: str) -> str:
+    """The mission's name: its `mission:` key, else the file's stem."""
+    name = doc.get("mission") if isinstance(doc, YamlMap) else None
+    return str(name or Path(file).stem)
+
+
 def stage_names(doc: Any, file: str) -> list[str]:
     """The stages' names in order (none: not a staged mission); a malformed list is located."""
     if not isinstance(doc, YamlMap) or STAGES not in doc:
@@ -87,8 +93,7 @@ def stage_doc(
         merged[key] = copy_tree(value)
         if key in own.key_lines:
             merged.key_lines[key] = own.key_lines[key]
-    top = doc.get("mission") or Path(file).stem
-    merged["mission"] = f"{top}/{stage}"
+    merged["mission"] = f"{mission_name(doc, file)}/{stage}"
     wanted = merged.get("map")
     if isinstance(wanted, str) and wanted in names:
         if names.index(wanted) >= i:

@@ -34,11 +34,11 @@ from pathlib import Path
 from typing import Any
 
 from ..core.yaml_io import load_yaml
-from .mission import Mission, find_mission
+from .mission import Mission, find_mission, split_overrides
 from .report import EXIT_SUCCEEDED, RunReport
 from .runner import run_mission
 from .spec import load_mission_spec
-from .stage_doc import map_stages, stage_names
+from .stage_doc import map_stages, mission_name, stage_names
 
 
 @dataclass
@@ -81,7 +81,7 @@ def is_staged(path: str | PathLike[str]) -> bool:
 
 def staged_mission_name(path: str | PathLike[str]) -> str:
     file = find_mission(path)
-    return str(load_yaml(file).get("mission") or file.stem)
+    return mission_name(load_yaml(file), str(file))
 
 
 def run_stages(
@@ -102,12 +102,12 @@ def run_stages(
     doc = load_yaml(file)
     names = stage_names(doc, str(file))
     keep_map = map_stages(doc, str(file))
+    mission_over, _ = split_overrides(overrides or {})
     for name in names:  # every stage's keys checked before anything runs
-        mission_over = {k: v for k, v in (overrides or {}).items() if k.startswith("mission.")}
         load_mission_spec(file, mission_over, origins, stage=name)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    report = StagedReport(staged_mission_name(file), planned=names)
+    report = StagedReport(mission_name(doc, str(file)), planned=names)
     maps: dict[str, Path] = {}
     for name in names:
         mission = Mission.load(

@@ -74,6 +74,8 @@ class ExploreServer:
         self._best_distance = math.inf
         self._progress_at = 0.0
         self.start: Pose2D | None = None
+        self._area_of: OccupancyGrid | None = None
+        self._area = 0.0
 
     def set_parameters(self, params: ServerParams) -> None:
         self.server_params = params
@@ -166,4 +168,7 @@ class ExploreServer:
         grid: OccupancyGrid | None = self.map_server.map
         if grid is None:
             return 0.0
-        return float(np.count_nonzero(grid.data == 0)) * grid.resolution**2
+        if grid is not self._area_of:  # a new map: count once (feedback asks every tick)
+            self._area_of = grid
+            self._area = float(np.count_nonzero(grid.data == 0)) * grid.resolution**2
+        return self._area

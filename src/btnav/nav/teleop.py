@@ -29,7 +29,6 @@ class DriveServer(ActionServer[DriveGoal]):
     def __init__(self, runtime: Runtime, name: str = "drive") -> None:
         super().__init__("Drive", name, rate=TELEOP_RATE, preemptible=True)
         self.runtime = runtime
-        self._start = 0.0
         self._ends: list[float] = []
 
     def validate_goal(self, goal: DriveGoal) -> str | None:
@@ -41,7 +40,6 @@ class DriveServer(ActionServer[DriveGoal]):
         return None
 
     def on_start(self, handle: GoalHandle[DriveGoal], now: float) -> NavResult | None:
-        self._start = now
         self._ends, t = [], now
         for _, _, seconds in handle.goal.commands:
             t += float(seconds)

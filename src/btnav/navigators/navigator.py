@@ -160,7 +160,7 @@ class BasicNavigator:
 
     def explore(self, behavior_tree: str = "") -> bool:
         """Explore until no reachable frontier is left (the bundled `explore` tree)."""
-        (navigator,) = self._navigators(ExploreNavigator.action_name)[:1]
+        navigator = self._navigators(ExploreNavigator.action_name)[0]
         return self._send(navigator.name, ExploreGoal(behavior_tree))
 
     def drive(self, commands: Sequence[Sequence[float]]) -> bool:
