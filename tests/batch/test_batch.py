@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 import textwrap
 
 import pytest
@@ -173,3 +175,30 @@ def test_the_ray_backend_without_ray_is_one_line(tmp_path, capsys, monkeypatch):
         "btnav: error: --backend: the ray backend needs Ray, which is not installed "
         "(pip install 'btnav[ray]')"
     )
+
+
+def test_a_script_without_a_main_guard_runs_once_however_many_runs_it_starts(tmp_path):
+    # multiprocessing runs the parent's main script again in each process it starts by
+    # fork server or spawn; a batch's runs need nothing from it, so a script written as
+    # a plain list of statements (no `if __name__ == "__main__":`) is not run again
+    mission = short_mission(tmp_path)
+    script = tmp_path / "sweep.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            from btnav.batch import run_batch
+
+            with open({str(tmp_path / "ran.txt")!r}, "a") as log:
+                log.write("ran\\n")
+            records = run_batch([{str(mission)!r}], out={str(tmp_path / "out")!r},
+                                seeds=[0, 1], workers=2)
+            print(sorted(r.status for r in records))
+            """
+        )
+    )
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=300, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "['succeeded', 'succeeded']"
+    assert (tmp_path / "ran.txt").read_text() == "ran\n"

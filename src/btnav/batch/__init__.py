@@ -4,12 +4,37 @@
 swept key before anything runs, run each job in a fresh process, append a row to
 `results.csv` as each run ends (a second invocation runs only what is missing), and
 summarise the batch per swept value.
+
+Importing the package is cheap (names load their modules on first use): a Ray worker
+that unpickles a `Job` should not import the navigation stack its run's process will
+import anyway.
 """
 
-from .api import BatchOutcome, run_batch
-from .jobs import BatchError, Job, parse_seeds, parse_sweep, parse_values
-from .record import RunRecord
-from .summary import GroupSummary, summarize, wilson_interval
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .api import BatchOutcome, run_batch
+    from .jobs import BatchError, Job, parse_seeds, parse_sweep, parse_values
+    from .record import RunRecord
+    from .summary import GroupSummary, summarize, wilson_interval
+
+#: Each public name and the module that holds it.
+_LAZY = {
+    "BatchError": "jobs",
+    "BatchOutcome": "api",
+    "GroupSummary": "summary",
+    "Job": "jobs",
+    "RunRecord": "record",
+    "parse_seeds": "jobs",
+    "parse_sweep": "jobs",
+    "parse_values": "jobs",
+    "run_batch": "api",
+    "summarize": "summary",
+    "wilson_interval": "summary",
+}
 
 __all__ = [
     "BatchError",
@@ -24,3 +49,12 @@ __all__ = [
     "summarize",
     "wilson_interval",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'btnav.batch' has no attribute {name!r}")
+    value = getattr(import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value

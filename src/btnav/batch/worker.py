@@ -23,14 +23,14 @@ import sys
 import time
 import traceback
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from multiprocessing.connection import Connection
 from multiprocessing.context import BaseContext
 from pathlib import Path
 from typing import Any
 
 from ..core.errors import BtnavWarning
-from ..mission.mission import Mission
-from ..mission.runner import run_mission
 from .jobs import Job
 from .record import TRACEBACK_FILE, RunRecord
 
@@ -46,6 +46,10 @@ def execute(job: Job, out: Path) -> RunRecord:
     (folder / TRACEBACK_FILE).unlink(missing_ok=True)
     wall0 = time.perf_counter()
     try:
+        # here, not at the top: a Ray worker imports this module only to start runs
+        from ..mission.mission import Mission
+        from ..mission.runner import run_mission
+
         with warnings.catch_warnings():
             # the batch showed each mission's warnings once, when it checked them
             warnings.simplefilter("ignore", BtnavWarning)
@@ -105,13 +109,37 @@ def child_main(job: Job, out: str, conn: Connection) -> None:
     conn.close()
 
 
+@contextmanager
+def _main_script_hidden() -> Iterator[None]:
+    """While a run's process starts, the parent's `__main__` names no script.
+
+    multiprocessing runs the parent's main script again in every child it starts by
+    spawn or fork server (as `__mp_main__`), so that pickled functions of `__main__`
+    resolve. A run needs nothing from it (its target lives in this module), and in a
+    Ray worker that script is Ray's worker, about 0.5 s to run in every run's process.
+    """
+    main = sys.modules.get("__main__")
+    if main is None:
+        yield
+        return
+    saved = {key: main.__dict__[key] for key in ("__file__", "__spec__") if key in main.__dict__}
+    main.__dict__.pop("__file__", None)
+    main.__dict__["__spec__"] = None
+    try:
+        yield
+    finally:
+        main.__dict__.pop("__spec__", None)
+        main.__dict__.update(saved)
+
+
 def start(ctx: BaseContext, job: Job, out: Path) -> tuple[Any, Connection]:
     """A run's process, started; its record arrives on the returned connection."""
     receive, send = ctx.Pipe(duplex=False)
     process = ctx.Process(  # type: ignore[attr-defined]
         target=child_main, args=(job, str(out), send), daemon=True, name=f"btnav-run-{job.seed}"
     )
-    process.start()
+    with _main_script_hidden():
+        process.start()
     send.close()
     return process, receive
 

@@ -1,12 +1,34 @@
-"""Missions: the mission file, `btnav run`, and what a run writes (report, trajectory, tick log)."""
+"""Missions: the mission file, `btnav run`, and what a run writes (report, trajectory, tick log).
 
-from .errors import MissionError
-from .mission import Mission
-from .navigator import Navigator
-from .outputs import RunOutput
-from .report import RunReport
-from .runner import run_mission
-from .spec import MissionSpec
+Importing the package is cheap: each name loads its module on first use, so a process
+that only reads a report or a job (a Ray worker, `btnav batch`'s parent) does not
+import the navigation stack.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .errors import MissionError
+    from .mission import Mission
+    from .navigator import Navigator
+    from .outputs import RunOutput
+    from .report import RunReport
+    from .runner import run_mission
+    from .spec import MissionSpec
+
+#: Each public name and the module that holds it.
+_LAZY = {
+    "Mission": "mission",
+    "MissionError": "errors",
+    "MissionSpec": "spec",
+    "Navigator": "navigator",
+    "RunOutput": "outputs",
+    "RunReport": "report",
+    "run_mission": "runner",
+}
 
 __all__ = [
     "Mission",
@@ -17,3 +39,12 @@ __all__ = [
     "RunReport",
     "run_mission",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'btnav.mission' has no attribute {name!r}")
+    value = getattr(import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
