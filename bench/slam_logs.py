@@ -1,12 +1,15 @@
 """btnav's slam_toolbox engine on real laser logs, scored as published SLAM systems are.
 
-    python bench/slam_logs.py [LOG ...] [--params P] [--angle-increment-deg auto|declared|X]
+    python bench/slam_logs.py [LOG ...] [--params P | --lua F]
+                              [--angle-increment-deg auto|declared|X]
                               [--trajectory matched|odometry]
 
 Default logs: ../shared/slam_logs/intel.clf (relative to the repo) and, when `rosbags`
 is installed, intel.bag beside it. Each log runs through `btnav.slam.offline.run_slam`,
 the engine `btnav slam` runs, with the params `btnav slam` would use (slam_toolbox's
-own mapper_params_online_async.yaml without --params). Printed per log: the relation
+own mapper_params_online_async.yaml without --params; with --lua, Cartographer's engine,
+`btnav.slam.offline_cartographer.run_cartographer`, configured by that file, as `btnav slam
+--lua`). Printed per log: the relation
 errors (Kümmerle et al. 2009: mean and standard deviation of the absolute translational
 and rotational errors over the ground-truth relations in `<log stem>.relations`) of
 
@@ -42,9 +45,12 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from btnav.slam.cartographer_config import load_cartographer_config  # noqa: E402
 from btnav.slam.logs import RecordedLog, read_log  # noqa: E402
+from btnav.slam.mapper import Mapper  # noqa: E402
 from btnav.slam.metrics import RelationErrors, relation_errors, relations  # noqa: E402
 from btnav.slam.offline import odometry_trajectory, run_slam  # noqa: E402
+from btnav.slam.offline_cartographer import run_cartographer  # noqa: E402
 from btnav.slam.offline_files import slam_params  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -105,27 +111,32 @@ def line(label: str, e: RelationErrors) -> str:
     )
 
 
-def bench(path: Path, params_path: str | None, geometry: str, trajectory: str) -> None:
+def bench(
+    path: Path, params_path: str | None, geometry: str, trajectory: str, lua: str | None = None
+) -> None:
     rel_path = path.with_suffix(".relations")
     if not rel_path.exists():
         rel_path = path.parent / (path.name.split(".")[0] + ".relations")
     log = read_log(path)
     note = fix_geometry(log, geometry)
-    params = slam_params(params_path)
-    result = run_slam(log, params, trajectory=trajectory)  # type: ignore[arg-type]
+    if lua is not None:
+        result = run_cartographer(log, load_cartographer_config(lua))
+        engine, trajectory = "Cartographer", "local SLAM"
+    else:
+        result = run_slam(log, slam_params(params_path), trajectory=trajectory)  # type: ignore[arg-type]
+        engine = "slam_toolbox"
     stamps = result.stamps
     odom = log.odom_at(stamps)
     node_stamps = np.array([s.stamp for s in result.mapper.scans])
     node_of = np.searchsorted(node_stamps, stamps, side="right") - 1
-    print(f"{path.name}: {len(log.scans)} scans, {note}, params {params_path or 'default'}")
+    config = lua or params_path or "default"
+    print(f"{path.name}: {len(log.scans)} scans, {note}, {engine} with {config}")
     if rel_path.exists():
         rel = relations(rel_path)
         print(f"  relation errors over {len(rel)} relations ({rel_path.name})"
               "           translation          rotation")  # fmt: skip
-        print(
-            line(f"btnav slam_toolbox ({trajectory})", relation_errors(stamps, result.poses, rel))
-        )
-        if trajectory == "matched":
+        print(line(f"btnav {engine} ({trajectory})", relation_errors(stamps, result.poses, rel)))
+        if trajectory == "matched" and isinstance(result.mapper, Mapper):
             by_odom = odometry_trajectory(result.mapper, odom, node_of)
             print(line("  same map, map->odom x odometry", relation_errors(stamps, by_odom, rel)))
         print(line("odometry", relation_errors(stamps, odom, rel)))
@@ -147,12 +158,14 @@ def bench(path: Path, params_path: str | None, geometry: str, trajectory: str) -
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("logs", nargs="*", type=Path)
-    ap.add_argument("--params", help="a Nav2-style params file with a slam_toolbox: section")
+    engine = ap.add_mutually_exclusive_group()
+    engine.add_argument("--params", help="a Nav2-style params file with a slam_toolbox: section")
+    engine.add_argument("--lua", help="run Cartographer's engine with this .lua options file")
     ap.add_argument("--angle-increment-deg", default="auto", help="auto, declared or degrees")
     ap.add_argument("--trajectory", choices=("matched", "odometry"), default="matched")
     args = ap.parse_args()
     for path in args.logs or default_logs():
-        bench(path, args.params, args.angle_increment_deg, args.trajectory)
+        bench(path, args.params, args.angle_increment_deg, args.trajectory, args.lua)
 
 
 if __name__ == "__main__":

@@ -63,6 +63,7 @@ def _slam(args: argparse.Namespace) -> int:
         scan_topic=args.scan_topic,
         odom_topic=args.odom_topic,
         trajectory=args.trajectory,
+        lua=args.lua,
     )
 
 
@@ -241,15 +242,17 @@ def build_parser() -> argparse.ArgumentParser:
 
     slam = sub.add_parser("slam", help="SLAM on a recorded log (CARMEN, ROS 1 or ROS 2 bag)")
     slam.add_argument("log", help="a .clf/.log CARMEN file, a .bag, or a rosbag2 folder/.db3/.mcap")
-    slam.add_argument("--params", help="a params file with a slam_toolbox: section (defaults)")
+    engine = slam.add_mutually_exclusive_group()
+    engine.add_argument("--params", help="a params file with a slam_toolbox: section (defaults)")
+    engine.add_argument("--lua", help="run Cartographer, configured by this .lua options file")
     slam.add_argument("-o", "--output", required=True, help="the folder to write")
     slam.add_argument("--scan-topic", help="the LaserScan topic of a bag (when several)")
     slam.add_argument("--odom-topic", help="the Odometry topic of a bag (when several)")
     slam.add_argument(
         "--trajectory",
         choices=("matched", "odometry"),
-        default="matched",
-        help="trajectory.csv: every scan matched to the map (default), or odometry between nodes",
+        help="slam_toolbox's trajectory.csv: every scan matched to the map (default), or "
+        "odometry between nodes (Cartographer's: every scan as local SLAM matched it)",
     )
     slam.set_defaults(func=_slam)
 

@@ -1,4 +1,5 @@
-"""`btnav slam LOG --params P -o OUT/`: SLAM on a recorded log, as slam_toolbox on a bag.
+"""`btnav slam LOG [--params P | --lua F] -o OUT/`: SLAM on a recorded log, as slam_toolbox
+(or, with `--lua`, cartographer_ros's offline node) on a bag.
 
 Writes `OUT/map.yaml` + `map.pgm`, `OUT/trajectory.csv` and `OUT/pose_graph.npz`
 (`slam.offline_files`). `--trajectory matched` (default) places every scan by matching
@@ -14,8 +15,11 @@ import sys
 from os import PathLike
 from pathlib import Path
 
+from ..core.errors import ConfigError
+from ..slam.cartographer_config import load_cartographer_config
 from ..slam.logs import read_log
 from ..slam.offline import run_slam
+from ..slam.offline_cartographer import run_cartographer
 from ..slam.offline_files import slam_params, write_outputs
 from . import EXIT_OK
 
@@ -44,9 +48,14 @@ def slam_main(
     *,
     scan_topic: str | None = None,
     odom_topic: str | None = None,
-    trajectory: str = "matched",
+    trajectory: str | None = None,
+    lua: str | PathLike[str] | None = None,
 ) -> int:
-    params = slam_params(params_path)
+    if lua is not None and trajectory is not None:
+        raise ConfigError("--trajectory chooses between slam_toolbox's trajectories; with --lua "
+                         "every scan is placed as Cartographer's local SLAM matched it", key="--trajectory")  # fmt: skip
+    config = load_cartographer_config(lua) if lua is not None else None
+    params = slam_params(params_path) if config is None else None
     bar, update = _progress("reading")
     if bar is not None:
         bar.start()
@@ -54,7 +63,11 @@ def slam_main(
         log = read_log(log_path, scan_topic=scan_topic, odom_topic=odom_topic, progress=update)
         if bar is not None:
             bar.update(bar.task_ids[0], description="scans")
-        result = run_slam(log, params, progress=update, trajectory=trajectory)  # type: ignore[arg-type]
+        if config is not None:
+            result = run_cartographer(log, config, progress=update)
+        else:
+            assert params is not None
+            result = run_slam(log, params, progress=update, trajectory=trajectory or "matched")  # type: ignore[arg-type]
     finally:
         if bar is not None:
             bar.stop()

@@ -402,11 +402,18 @@ class CartographerSlam:
         if not self.mapper.scans:
             return None
         if self._map is None or self._map_key != self._key():
-            subs = [s for s in self.local.submaps.submaps if s.index in self.mapper.anchors]
-            poses = np.array([self.mapper.submap_pose(s.index) for s in subs])
-            anchor = self.mapper.poses[0]
-            self._map = assemble_map(
-                subs, poses, anchor, self.config.frames.map_frame, free=LIVE_MAP_FREE
+            self._map = global_map(
+                self.local.submaps.submaps, self.mapper, self.config.frames.map_frame, LIVE_MAP_FREE
             )
             self._map_key = self._key()
         return self._map
+
+
+def global_map(
+    submaps: list[Submap], mapper: CartographerMapper, frame_id: str, free: float = 0.25
+) -> OccupancyGrid:
+    """Every submap the graph holds at its optimised pose (cartographer_ros's /map); `free`
+    0.25 is map_saver's threshold, the live map uses `LIVE_MAP_FREE`."""
+    subs = [s for s in submaps if s.index in mapper.anchors]
+    poses = np.array([mapper.submap_pose(s.index) for s in subs])
+    return assemble_map(subs, poses, mapper.poses[0], frame_id, free=free)

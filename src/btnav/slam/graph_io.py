@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from os import PathLike
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,6 +18,9 @@ from ..core.errors import BtnavError
 from ..params.localization import SlamToolboxParams
 from .mapper import Mapper, Scan
 from .pose_graph import PoseGraph
+
+if TYPE_CHECKING:
+    from .cartographer_slam import CartographerMapper
 
 FORMAT = "btnav-pose-graph-1"
 
@@ -91,3 +95,28 @@ def load_pose_graph(path: str | PathLike[str], params: SlamToolboxParams) -> Map
     mapper.running = [int(i) for i in d["running"]]
     mapper.loop_closures = int(d["loop_closures"])
     return mapper
+
+
+CARTOGRAPHER_FORMAT = "btnav-cartographer-graph-1"
+
+
+def save_cartographer_graph(mapper: CartographerMapper, path: str | PathLike[str]) -> Path:
+    """Cartographer's graph as `btnav slam --lua` leaves it (the role of its `.pbstream`):
+    each node's stamp, odometry, local and optimised pose, the node each submap's frame
+    hangs on, and the edges. For looking at, not for `mode: localization`, which loads
+    slam_toolbox's graphs."""
+    out = Path(path)
+    nodes = mapper.scans
+    anchors = sorted(mapper.anchors.items())
+    graph = {f"graph_{k}": v for k, v in mapper.graph.to_arrays().items()}
+    np.savez_compressed(
+        out,
+        format=np.array(CARTOGRAPHER_FORMAT),
+        stamps=np.array([node.stamp for node in nodes], float),
+        odom=np.array([node.odom_pose for node in nodes], float).reshape(-1, 3),
+        local=np.array([node.local_pose for node in nodes], float).reshape(-1, 3),
+        submap_nodes=np.array([node for _, node in anchors], np.int64),
+        loop_closures=np.array(mapper.loop_closures),
+        **graph,
+    )
+    return out

@@ -25,7 +25,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,6 +39,9 @@ from .occupancy_mapper import OccupancyMapper
 from .scan_gate import ScanGate
 from .scan_points import scan_points
 
+if TYPE_CHECKING:
+    from .cartographer_slam import CartographerMapper
+
 F64 = NDArray[np.float64]
 Trajectory = Literal["matched", "odometry"]
 
@@ -47,7 +50,7 @@ Trajectory = Literal["matched", "odometry"]
 class OfflineResult:
     stamps: F64  # (S,) every scan's time
     poses: F64  # (S, 3) every scan's robot pose in the map frame
-    mapper: Mapper
+    mapper: Mapper | CartographerMapper  # slam_toolbox's (Karto's) or Cartographer's graph
     grid: OccupancyGrid
     wall_time: float
 

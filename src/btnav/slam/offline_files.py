@@ -2,7 +2,8 @@
 
 The folder is what slam_toolbox leaves after a bag: `map.yaml` + `map.pgm` (map_server's
 format), `trajectory.csv` (t, x, y, yaw: one row per scan, at the scan's time) and
-`pose_graph.npz` (the graph `localization: slam` with `mode: localization` loads).
+`pose_graph.npz` (the graph `localization: slam` with `mode: localization` loads; after
+`--lua`, Cartographer's nodes and edges, `graph_io.save_cartographer_graph`).
 `btnav slam` (`btnav.cli.slam`) reads and checks every input before writing here.
 """
 
@@ -16,7 +17,8 @@ import numpy as np
 from ..maps.map_io import save_map
 from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
-from .graph_io import save_pose_graph
+from .graph_io import save_cartographer_graph, save_pose_graph
+from .mapper import Mapper
 from .offline import OfflineResult
 from .slam_toolbox import default_slam_params
 
@@ -41,4 +43,7 @@ def write_outputs(result: OfflineResult, out: Path) -> None:
         comments="",
         fmt=["%.6f", "%.6f", "%.6f", "%.6f"],
     )
-    save_pose_graph(result.mapper, out / "pose_graph.npz")
+    if isinstance(result.mapper, Mapper):
+        save_pose_graph(result.mapper, out / "pose_graph.npz")
+    else:
+        save_cartographer_graph(result.mapper, out / "pose_graph.npz")
