@@ -83,7 +83,7 @@ def view(nav: Navigator, start: Pose2D, goal: tuple[float, float, float]) -> Pla
 
 def followed_plan(nav: Navigator) -> np.ndarray:
     """The global plan the controller is following now (controller_server's FollowPath goal)."""
-    handle = nav.stack.controller_server.current
+    handle = nav.stack.controller_server.action.current
     if handle is None or handle.goal.path is None:
         return np.zeros((0, 3))
     return np.asarray(handle.goal.path.poses, dtype=float)

@@ -58,7 +58,7 @@ class RunOutput:
 
         Read from controller_server's last FollowPath goal, which the run leaves in place.
         """
-        handle = self.navigator.stack.controller_server.current
+        handle = self.navigator.stack.controller_server.action.current
         if handle is None or handle.goal.path is None:
             return np.zeros((0, 3))
         return np.asarray(handle.goal.path.poses, dtype=float).reshape(-1, 3).copy()

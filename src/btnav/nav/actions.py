@@ -142,6 +142,7 @@ class ActionServer(Generic[G]):
         execute: Callable[[GoalHandle[G], float], NavResult | None] | None = None,
         on_start: Callable[[GoalHandle[G], float], NavResult | None] | None = None,
         on_cancel: Callable[[GoalHandle[G], float], NavResult | None] | None = None,
+        on_preempt: Callable[[GoalHandle[G], GoalHandle[G], float], NavResult | None] | None = None,
         validate_goal: Callable[[G], str | None] | None = None,
     ) -> None:
         self.action = action
@@ -153,6 +154,7 @@ class ActionServer(Generic[G]):
         self._execute = execute
         self._on_start = on_start
         self._on_cancel = on_cancel
+        self._on_preempt = on_preempt
         self._validate = validate_goal
         self.current: GoalHandle[G] | None = None
         self.pending: GoalHandle[G] | None = None
@@ -263,9 +265,11 @@ class ActionServer(Generic[G]):
     def on_preempt(self, old: GoalHandle[G], new: GoalHandle[G], now: float) -> NavResult | None:
         """`new` replaces the running `old` (already ABORTED); by default it starts afresh.
 
-        Override to carry state over, as controller_server keeps its progress checker
-        when a new path arrives.
+        Override (or pass `on_preempt`) to carry state over, as controller_server keeps
+        its progress checker when a new path arrives.
         """
+        if self._on_preempt is not None:
+            return self._on_preempt(old, new, now)
         return self.on_start(new, now)
 
     def execute(self, handle: GoalHandle[G], now: float) -> NavResult | None:

@@ -45,29 +45,19 @@ from ..params.paramsfile import ServerParams
 from .actions import ActionServer, GoalHandle
 from .costmap_server import CostmapServer
 from .path_tracking import PathTracker
-from .runtime import Runtime, Stage
-from .server_plugins import make_plugin, make_plugins, pick
+from .runtime import Runtime
+from .server_plugins import PluginServer, make_plugin, make_plugins, pick
 
 #: A map -> odom change beyond these re-sends the plan to the controller in the odom frame.
 _REPLAN_XY = 0.01
 _REPLAN_YAW = 0.005
 
 
-class _Ticker:
-    """Runs the server's cycle on the runtime's schedule (replaced when the rate changes)."""
+class ControllerServer(PluginServer):
+    """controller_server: owns the controller, goal checker, progress checker and path
+    handler plugins and the `follow_path` action, run at `controller_frequency`."""
 
-    stage = Stage.SERVER
-
-    def __init__(self, server: ActionServer[Any], rate: float) -> None:
-        self.server = server
-        self.rate = rate
-
-    def update(self, now: float) -> None:
-        self.server.update(now)
-
-
-class ControllerServer(ActionServer[FollowPathGoal]):
-    """controller_server: the FollowPath action server, scheduled at `controller_frequency`."""
+    kind = "controller"
 
     def __init__(
         self,
@@ -77,14 +67,9 @@ class ControllerServer(ActionServer[FollowPathGoal]):
         *,
         seed: int | None = None,
     ) -> None:
-        self.seed = runtime.seed if seed is None else seed
-        super().__init__("FollowPath", "follow_path")
+        super().__init__(runtime, params, costmap, seed=seed)
         self.rate = float(params.model.controller_frequency)
-        self.runtime = runtime
-        self.params = params
-        self.costmap = costmap
-        seed = self.seed
-        self.controllers: dict[str, Any] = make_plugins(params, "controller", seed=seed)
+        self.controllers: dict[str, Any] = self.plugins
         self.goal_checkers: dict[str, Any] = make_plugins(params, "goal_checker")
         self.progress_checkers: dict[str, Any] = make_plugins(params, "progress_checker")
         handlers = make_plugins(params, "path_handler")
@@ -103,8 +88,18 @@ class ControllerServer(ActionServer[FollowPathGoal]):
         self.local_plan: Path | None = None
         self._fed_transform: Pose2D | None = None
         self._fed_plan: Any = None
-        runtime.add_action_server(self)
-        self._ticker = runtime.add(_Ticker(self, self.rate))
+        self.action: ActionServer[FollowPathGoal] = ActionServer(
+            "FollowPath",
+            "follow_path",
+            on_start=self.on_start,
+            on_preempt=self.on_preempt,
+            execute=self.execute,
+            on_cancel=self.on_cancel,
+        )
+        runtime.add_action_server(self.action)
+
+    def update(self, now: float) -> None:
+        self.action.update(now)
 
     # -- hooks ------------------------------------------------------------------------------
 
@@ -304,6 +299,6 @@ class ControllerServer(ActionServer[FollowPathGoal]):
                     self._fed_transform = None
                 self.controllers[name] = fresh
         self._set_control_duration()
-        if self.rate != old_rate:
-            self.runtime.remove(self._ticker)
-            self._ticker = self.runtime.add(_Ticker(self, self.rate))
+        if self.rate != old_rate:  # rescheduled at the new rate
+            self.runtime.remove(self)
+            self.runtime.add(self)

@@ -23,7 +23,7 @@ One `step()` is, in this fixed order:
 Profiling is opt-in: set `runtime.profile = {}` and each `step()` adds the wall seconds
 (`time.perf_counter`) of every part to it, keyed by `profile_label`: "physics",
 "odometry", a sensor as "Lidar/laser", a component as "CostmapServer/local_costmap",
-"ControllerServer/follow_path", ... (type, then name), and a scan subscriber under its
+"ControllerServer", ... (type, then name), and a scan subscriber under its
 owner's label. While `profile` is None (the default) a step does nothing extra.
 
 Rates are kept on the integer-nanosecond sim clock without drift: a component at
@@ -80,7 +80,7 @@ class Stage(IntEnum):
 def profile_label(thing: Any) -> str:
     """The key a component (or a subscriber callback) is profiled under: its type's name,
     then "/" and its `name` if it has one ("CostmapServer/local_costmap"). A scheduling
-    wrapper with a `server` (the controller server's ticker) is labelled as its server."""
+    wrapper with a `server` is labelled as its server."""
     owner = getattr(thing, "__self__", thing)  # a bound method: its object
     owner = getattr(owner, "server", owner)
     kind = type(owner).__name__

@@ -1,5 +1,5 @@
 """Building a server's plugins from its params sections, and picking one by id, as Nav2 does;
-`PluginServer`, the shape planner_server and smoother_server share."""
+`PluginServer`, the shape planner_server, controller_server and smoother_server share."""
 
 from __future__ import annotations
 
@@ -45,8 +45,9 @@ def pick(plugins: dict[str, Any], wanted: str) -> Any | None:
 
 class PluginServer:
     """A Nav2 server owning the plugins of one kind (`kind`) on a costmap, and answering
-    its actions on the step after a goal comes (no sim time passes during a call).
-    The server holds its action servers and registers them with the runtime."""
+    its actions on the step after a goal comes (no sim time passes during a call; the
+    controller server runs at its `controller_frequency` instead). The server holds its
+    action servers and registers them with the runtime."""
 
     stage = Stage.SERVER
     kind: ClassVar[str]

@@ -93,8 +93,8 @@ class NavStack:
         planner = runtime.add(
             PlannerServer(runtime, pf.server("planner_server"), global_costmap, seed=seed)
         )
-        controller = ControllerServer(
-            runtime, pf.server("controller_server"), local_costmap, seed=seed
+        controller = runtime.add(
+            ControllerServer(runtime, pf.server("controller_server"), local_costmap, seed=seed)
         )
         smoother = runtime.add(
             SmootherServer(runtime, pf.server("smoother_server"), global_costmap, seed=seed)

@@ -172,7 +172,7 @@ class RunRecorder:
 
     def _plan(self) -> np.ndarray:
         """The global plan the controller follows (a copy kept until the next plan)."""
-        handle = self.nav.stack.controller_server.current
+        handle = self.nav.stack.controller_server.action.current
         path = None if handle is None else handle.goal.path
         if path is self._plan_of[0]:
             return self._plan_of[1]
@@ -187,7 +187,7 @@ class RunRecorder:
     def _local_plan(self) -> np.ndarray:
         """What the running controller means to do next, in the global frame."""
         server = self.nav.stack.controller_server
-        if not server.is_active or server.controller is None:
+        if not server.action.is_active or server.controller is None:
             return _NONE
         frame = server.costmap.global_frame
         to_global = self._to_global(frame)
