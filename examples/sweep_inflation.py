@@ -26,8 +26,8 @@ from pathlib import Path
 import yaml
 
 from btnav.batch import parse_seeds, parse_values, run_batch
-from btnav.batch.progress import default_progress
 from btnav.batch.summary import markdown, summarize
+from btnav.cli.batch_progress import default_progress
 
 REPO = Path(__file__).resolve().parents[1]
 GLOBAL = "global_costmap.global_costmap.inflation_layer.inflation_radius"

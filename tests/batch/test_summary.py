@@ -9,9 +9,9 @@ import os
 import pytest
 
 from btnav.batch import BatchError, RunRecord, summarize, wilson_interval
-from btnav.batch.progress import LineProgress
 from btnav.batch.results import ResultsFile, read_rows
 from btnav.batch.summary import markdown, write_summary
+from btnav.cli.batch_progress import LineProgress
 
 
 def record(seed: int, status: str = "succeeded", r: str = "0.4", **fields) -> RunRecord:
@@ -131,7 +131,7 @@ def test_the_rich_bar_counts_runs_and_failures(monkeypatch):
 
     import rich.console
 
-    from btnav.batch.progress import RichProgress, default_progress
+    from btnav.cli.batch_progress import RichProgress, default_progress
 
     assert isinstance(default_progress(io.StringIO()), LineProgress)  # not a terminal
     real = rich.console.Console

@@ -7,9 +7,10 @@ from pathlib import Path
 
 import pytest
 
+from btnav.cli.status_line import StatusLine
 from btnav.mission import Mission
+from btnav.mission.run_status import format_status
 from btnav.mission.runner import run_mission
-from btnav.mission.status_line import StatusLine, format_status
 
 from .missions import write_mission
 

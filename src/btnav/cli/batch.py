@@ -15,10 +15,10 @@ from typing import Any
 
 from ..batch.api import run_batch
 from ..batch.jobs import parse_seeds, parse_sweep
-from ..batch.progress import default_progress
 from ..batch.results import RESULTS_FILE
 from ..batch.summary import markdown, summarize
 from . import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
+from .batch_progress import default_progress
 
 
 def batch_main(

@@ -15,7 +15,7 @@ from typing import Any
 from ..mission.mission import Mission
 from ..mission.runner import run_mission
 from ..mission.stages import is_staged, run_stages, staged_mission_name
-from ..mission.status_line import StatusLine
+from .status_line import StatusLine
 
 
 def default_out_dir(mission: Mission) -> Path:

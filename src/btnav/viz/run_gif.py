@@ -28,7 +28,7 @@ import numpy as np
 
 from ..core.errors import BtnavError
 from ..mission.outputs import RunOutput
-from ..mission.status_line import format_status
+from ..mission.run_status import format_status
 from ..plugins import register
 from .run_plot import GOAL_COLOR, PATH_COLOR, PLAN_COLOR
 from .run_recorder import RunRecorder, Snapshot

@@ -31,7 +31,7 @@ from ..core.errors import FrameError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan
 from ..core.nav2_msgs import FollowWaypointsGoal, NavigateThroughPosesGoal
-from ..mission.status_line import current_waypoint, running_actions
+from ..mission.run_status import current_waypoint, running_actions
 from ..nav.runtime import Stage
 
 #: Particles kept per frame at most (evenly thinned beyond).
