@@ -24,9 +24,7 @@ helpers load on first use.
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
-
+from ..core.lazy_names import lazy_names
 from .fixtures import btnav_mission, btnav_navigator, btnav_tree, btnav_world
 from .plugin import pytest_addoption, pytest_runtest_makereport, pytest_runtest_protocol
 
@@ -59,10 +57,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'btnav.testing' has no attribute {name!r}")
-    value = getattr(import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_names(__name__, _LAZY)
