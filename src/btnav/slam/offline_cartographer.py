@@ -44,7 +44,10 @@ def run_cartographer(
     laser = np.asarray(log.laser_offset, float)
     n = len(log.scans)
     stamps = np.array([s.stamp for s in log.scans], float)
-    odom = log.odom_at(stamps).reshape(n, 3)
+    if log.has_odometry or frames.use_odometry:  # (odometry asked for and missing: LogError)
+        odom = log.odom_at(stamps).reshape(n, 3)
+    else:  # a laser-only log: Cartographer's pose extrapolator alone
+        odom = np.zeros((n, 3))
     local_poses = np.full((n, 3), np.nan)
     node_of = np.full(n, -1)
     for i, scan in enumerate(log.scans):
