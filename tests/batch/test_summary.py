@@ -108,8 +108,13 @@ def test_a_record_reads_back_equal_from_its_row(tmp_path):
     results = ResultsFile(path, ["a.r"])
     results.open()
     original = record(3, loc_rms_xy=0.1 + 0.2, error_msg='a, "quoted" message')
+    explored = record(4, explored_area=61.75)  # an exploring mission's m² mapped
     results.append(original.row())
-    assert RunRecord.from_row(read_rows(path)[0], ["a.r"]) == original
+    results.append(explored.row())
+    rows = read_rows(path)
+    assert RunRecord.from_row(rows[0], ["a.r"]) == original
+    assert RunRecord.from_row(rows[1], ["a.r"]) == explored
+    assert rows[0]["explored_area"] == "" and rows[1]["explored_area"] == "61.75"
 
 
 def test_the_line_progress_is_one_line_per_run(capsys):

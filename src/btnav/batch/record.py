@@ -42,6 +42,7 @@ class RunRecord:
     loc_rms_xy: float | None = None
     loc_max_xy: float | None = None
     loc_rms_yaw: float | None = None
+    explored_area: float | None = None  # m² of free space mapped (a SLAM run's map)
     folder: str = ""
     extra: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
@@ -81,6 +82,7 @@ class RunRecord:
             loc_rms_xy=loc.get("rms_xy"),
             loc_max_xy=loc.get("max_xy"),
             loc_rms_yaw=loc.get("rms_yaw"),
+            explored_area=report.explored_area,
             folder=folder,
         )
 
@@ -121,6 +123,7 @@ class RunRecord:
             loc_rms_xy=num("loc_rms_xy", float),
             loc_max_xy=num("loc_max_xy", float),
             loc_rms_yaw=num("loc_rms_yaw", float),
+            explored_area=num("explored_area", float),
             folder=row.get("folder", ""),
         )
 

@@ -37,6 +37,7 @@ TAIL = (
     "loc_rms_xy",
     "loc_max_xy",
     "loc_rms_yaw",
+    "explored_area",
     "folder",
 )
 RESULTS_FILE = "results.csv"
