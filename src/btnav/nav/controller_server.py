@@ -88,6 +88,8 @@ class ControllerServer(PluginServer):
         self.local_plan: Path | None = None
         self._fed_transform: Pose2D | None = None
         self._fed_plan: Any = None
+
+    def action_servers(self) -> list[ActionServer[Any]]:
         self.action: ActionServer[FollowPathGoal] = ActionServer(
             "FollowPath",
             "follow_path",
@@ -96,10 +98,7 @@ class ControllerServer(PluginServer):
             execute=self.execute,
             on_cancel=self.on_cancel,
         )
-        runtime.add_action_server(self.action)
-
-    def update(self, now: float) -> None:
-        self.action.update(now)
+        return [self.action]
 
     # -- hooks ------------------------------------------------------------------------------
 

@@ -32,11 +32,8 @@ from ..core.errors import FrameError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
 from ..core.nav2_msgs import ComputePathThroughPosesGoal, ComputePathToPoseGoal, PoseLike
-from ..params.paramsfile import ServerParams
 from ..planning.exceptions import PlannerException
 from .actions import ActionServer, GoalHandle
-from .costmap_server import CostmapServer
-from .runtime import Runtime
 from .server_plugins import PluginServer, pick
 
 
@@ -51,27 +48,14 @@ class PlannerServer(PluginServer):
 
     kind = "planner"
 
-    def __init__(
-        self,
-        runtime: Runtime,
-        params: ServerParams,
-        costmap: CostmapServer,
-        *,
-        seed: int | None = None,
-    ) -> None:
-        super().__init__(runtime, params, costmap, seed=seed)
+    def action_servers(self) -> list[ActionServer[Any]]:
         self.to_pose: ActionServer[ComputePathToPoseGoal] = ActionServer(
             "ComputePathToPose", "compute_path_to_pose", on_start=self._to_pose
         )
         self.through_poses: ActionServer[ComputePathThroughPosesGoal] = ActionServer(
             "ComputePathThroughPoses", "compute_path_through_poses", on_start=self._through_poses
         )
-        runtime.add_action_server(self.to_pose)
-        runtime.add_action_server(self.through_poses)
-
-    def update(self, now: float) -> None:
-        self.to_pose.update(now)
-        self.through_poses.update(now)
+        return [self.to_pose, self.through_poses]
 
     # -- the public call (also what the actions do) -----------------------------------------
 
@@ -148,11 +132,3 @@ class PlannerServer(PluginServer):
         return p
 
     # -- dynamic parameters -----------------------------------------------------------------
-
-    def set_parameters(self, params: ServerParams) -> None:
-        """Apply params `validate_update` accepted: plugins take their new sections."""
-        self.params = params
-        for name, section in params.plugins.items():
-            planner = self.plugins.get(name)
-            if planner is not None and section.params is not None:
-                planner.params = section.params

@@ -8,6 +8,7 @@ from typing import Any, ClassVar
 
 from ..core.rng import stream
 from ..params.paramsfile import PluginSection, ServerParams
+from .actions import ActionServer
 from .runtime import Runtime, Stage
 
 
@@ -61,3 +62,22 @@ class PluginServer:
         self.costmap = costmap
         self.plugins: dict[str, Any] = make_plugins(params, self.kind, seed=self.seed)
         self.rate = 1.0 / runtime.physics_dt
+        self.actions: list[ActionServer[Any]] = self.action_servers()
+        for action in self.actions:
+            runtime.add_action_server(action)
+
+    def action_servers(self) -> list[ActionServer[Any]]:
+        """The server's actions, built once with the server (their hooks are its methods)."""
+        raise NotImplementedError
+
+    def update(self, now: float) -> None:
+        for action in self.actions:
+            action.update(now)
+
+    def set_parameters(self, params: ServerParams) -> None:
+        """Apply params `validate_update` accepted: plugins take their new sections."""
+        self.params = params
+        for name, section in params.plugins.items():
+            plugin = self.plugins.get(name)
+            if plugin is not None and section.params is not None:
+                plugin.params = section.params

@@ -10,17 +10,16 @@ pass during a call), so `max_smoothing_duration` never expires here.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ..core.error_codes import NavResult, SmoothPathError
 from ..core.nav2_msgs import SmoothPathGoal
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
-from ..params.paramsfile import ServerParams
 from ..planning.exceptions import SmootherException
 from ..planning.smoother import Smoothed
 from .actions import ActionServer, GoalHandle
-from .costmap_server import CostmapServer
-from .runtime import Runtime
 from .server_plugins import PluginServer, pick
 
 
@@ -29,22 +28,11 @@ class SmootherServer(PluginServer):
 
     kind = "smoother"
 
-    def __init__(
-        self,
-        runtime: Runtime,
-        params: ServerParams,
-        costmap: CostmapServer,
-        *,
-        seed: int | None = None,
-    ) -> None:
-        super().__init__(runtime, params, costmap, seed=seed)
+    def action_servers(self) -> list[ActionServer[Any]]:
         self.action: ActionServer[SmoothPathGoal] = ActionServer(
             "SmoothPath", "smooth_path", on_start=self._smooth
         )
-        runtime.add_action_server(self.action)
-
-    def update(self, now: float) -> None:
-        self.action.update(now)
+        return [self.action]
 
     def smooth(self, goal: SmoothPathGoal) -> NavResult:
         """Smooth now and return the action's result (what the action does)."""
@@ -74,10 +62,3 @@ class SmootherServer(PluginServer):
 
     def _smooth(self, handle: GoalHandle[SmoothPathGoal], now: float) -> NavResult:
         return self.smooth(handle.goal)
-
-    def set_parameters(self, params: ServerParams) -> None:
-        self.params = params
-        for name, section in params.plugins.items():
-            smoother = self.plugins.get(name)
-            if smoother is not None and section.params is not None:
-                smoother.params = section.params
