@@ -107,7 +107,8 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         self.start_time = 0.0
         self._closest = 0  # index of the path pose closest to the robot
         self._path: Path | None = None
-        self._xy: Any = None
+        self._px: Any = None  # the x and y of `_path`, each contiguous
+        self._py: Any = None
         self._seg: Any = None  # the segment lengths of `_path`
         self._window_end: dict[int, int] = {}  # of `_path`, by closest pose
         self._length_from: dict[int, float] = {}  # of `_path`, by closest pose
@@ -254,11 +255,11 @@ class BehaviorTreeNavigator(ActionServer[Any]):
             # A new path: its segment lengths once (the tree ticks 100 times a second).
             self._path, self._closest = path, 0
             xy = path.poses[:, :2]
-            self._xy = xy
+            self._px, self._py = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
             self._seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
             self._window_end = {}
             self._length_from = {}
-        xy, seg = self._xy, self._seg
+        seg = self._seg
         # Nav2: the closest pose within search_window (along the path) of the last closest
         # (the window and the length left depend only on the closest pose: kept per index)
         start = self._closest
@@ -269,9 +270,13 @@ class BehaviorTreeNavigator(ActionServer[Any]):
                 along = np.cumsum(seg[start:])
                 window_end = start + 1 + int(np.searchsorted(along, self.search_window))
             self._window_end[start] = window_end
-        window = xy[start : min(window_end + 1, len(xy))]
-        d = fmath.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
-        self._closest = closest = start + int(np.argmin(d))
+        stop = window_end + 1
+        dx = self._px[start:stop] - pose.x
+        dy = self._py[start:stop] - pose.y
+        dx *= dx
+        dy *= dy
+        dx += dy  # squared distances: the same nearest pose, no square roots
+        self._closest = closest = start + int(dx.argmin())
         # nav2_util's calculate_path_length(path, closest_pose_idx)
         remaining = self._length_from.get(closest)
         if remaining is None:
