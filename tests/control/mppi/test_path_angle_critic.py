@@ -60,11 +60,6 @@ def test_defaults_are_nav2s_but_the_offset():
     assert p.max_angle_to_furthest == 0.785398 and p.mode == 0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_angle_critic.py:41 defaults offset_from_furthest to 20; Nav2's "
-    "PathAngleCritic defaults it to 4 (20 is PathAlignCritic's)",
-)
 def test_default_offset_from_furthest_is_4():
     assert PathAngleCritic.Params().offset_from_furthest == 4
 

@@ -40,12 +40,6 @@ def test_weight_is_nav2s():
     assert (p.cost_weight, p.cost_power) == (35.0, 1)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav velocity_deadband_critic.py:19 defaults deadband_velocities to "
-    "[0.05, 0.05, 0.05] (the example in Nav2's README); Nav2's code and parameter table "
-    "default it to [0.0, 0.0, 0.0], which turns the critic off",
-)
 def test_default_deadband_is_zero():
     assert VelocityDeadbandCritic.Params().deadband_velocities == [0.0, 0.0, 0.0]
 

@@ -38,7 +38,7 @@ class PathAngleCritic(CriticFunction):
     class Params(CriticFunction.Params):
         cost_weight: float = Field(2.2, ge=0.0)
         threshold_to_consider: float = Field(0.5, ge=0.0)
-        offset_from_furthest: int = Field(20, ge=0)
+        offset_from_furthest: int = Field(4, ge=0)
         max_angle_to_furthest: float = Field(0.785398, ge=0.0)
         mode: int = Field(0, ge=0, le=2)
         forward_preference: bool | None = Field(

@@ -16,7 +16,7 @@ class VelocityDeadbandCritic(CriticFunction):
 
     class Params(CriticFunction.Params):
         cost_weight: float = Field(35.0, ge=0.0)
-        deadband_velocities: list[float] = [0.05, 0.05, 0.05]
+        deadband_velocities: list[float] = [0.0, 0.0, 0.0]
 
         @field_validator("deadband_velocities")
         @classmethod
