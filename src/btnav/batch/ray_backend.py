@@ -4,9 +4,10 @@ Ray is imported only here, and only when asked for (`pip install 'btnav[ray]'`).
 Each task runs its job with `worker.run_isolated`, in a fresh process forked inside
 the Ray worker, so a run on Ray is built exactly as a local one and gives the same
 record. The Ray worker itself imports only the batch's light modules (a `Job`, a
-`RunRecord`); the stack is imported once per worker, by its fork server. Without `--address` a local Ray is started with `workers` CPUs and shut down
-at the end; with one, the batch joins that cluster (its nodes must see `--out` and
-the mission files at the same paths, e.g. on a shared file system).
+`RunRecord`); the stack is imported once per worker, by its fork server. Without
+`--address` a local Ray is started with `workers` CPUs and shut down at the end; with
+one, the batch joins that cluster (its nodes must see `--out` and the mission files at
+the same paths, e.g. on a shared file system).
 
 A task whose node was lost (Ray gives up after its retries) gets no row, so running
 the command again runs it again; Ctrl-C cancels the tasks still queued or running.

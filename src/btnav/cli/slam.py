@@ -52,8 +52,11 @@ def slam_main(
     lua: str | PathLike[str] | None = None,
 ) -> int:
     if lua is not None and trajectory is not None:
-        raise ConfigError("--trajectory chooses between slam_toolbox's trajectories; with --lua "
-                         "every scan is placed as Cartographer's local SLAM matched it", key="--trajectory")  # fmt: skip
+        raise ConfigError(
+            "--trajectory chooses between slam_toolbox's trajectories; with --lua "
+            "every scan is placed as Cartographer's local SLAM matched it",
+            key="--trajectory",
+        )
     config = load_cartographer_config(lua) if lua is not None else None
     params = slam_params(params_path) if config is None else None
     bar, update = _progress("reading")

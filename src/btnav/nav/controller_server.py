@@ -69,7 +69,6 @@ class ControllerServer(PluginServer):
     ) -> None:
         super().__init__(runtime, params, costmap, seed=seed)
         self.rate = float(params.model.controller_frequency)
-        self.controllers: dict[str, Any] = self.plugins
         self.goal_checkers: dict[str, Any] = make_plugins(params, "goal_checker")
         self.progress_checkers: dict[str, Any] = make_plugins(params, "progress_checker")
         handlers = make_plugins(params, "path_handler")
@@ -99,6 +98,11 @@ class ControllerServer(PluginServer):
             on_cancel=self.on_cancel,
         )
         return [self.action]
+
+    @property
+    def controllers(self) -> dict[str, Any]:
+        """The controller plugins by name (the server's `plugins`)."""
+        return self.plugins
 
     # -- hooks ------------------------------------------------------------------------------
 

@@ -25,7 +25,13 @@ import numpy as np
 
 from ..core.geometry import compose_arrays, relative_arrays
 from .cartographer_options import CartographerConfig
-from .cartographer_slam import CartographerMapper, LocalTrajectoryBuilder, global_map
+from .cartographer_slam import (
+    CartographerMapper,
+    LocalTrajectoryBuilder,
+    compose,
+    global_map,
+    relative,
+)
 from .logs import RecordedLog
 from .offline import OfflineResult
 from .submaps import RangeData
@@ -51,7 +57,9 @@ def run_cartographer(
     local_poses = np.full((n, 3), np.nan)
     node_of = np.full(n, -1)
     for i, scan in enumerate(log.scans):
-        data = RangeData.from_scan(scan, laser, tb.min_range, tb.max_range, tb.missing_data_ray_length)  # fmt: skip
+        data = RangeData.from_scan(
+            scan, laser, tb.min_range, tb.max_range, tb.missing_data_ray_length
+        )
         out = local.add_range_data(scan.stamp, odom[i], data)
         if out is not None:
             local_poses[i], insertion = out
@@ -72,9 +80,10 @@ def _scan_poses(
     """Every scan in the map frame (see the module doc)."""
     local = local_poses.copy()
     for i in np.flatnonzero(~np.isfinite(local[:, 0])):  # accumulating scans: by odometry
-        before = local[i - 1] if i else np.zeros(3)
-        step = relative_arrays(odom[i - 1 : i] if i else odom[:1], odom[i : i + 1])[0]
-        local[i] = compose_arrays(before[None, :], step[None, :])[0]
+        if i:
+            local[i] = compose(local[i - 1], relative(odom[i - 1], odom[i]))
+        else:
+            local[i] = 0.0
     if not mapper.scans:
         return local
     node_local = np.array([node.local_pose for node in mapper.scans])
