@@ -92,12 +92,6 @@ def test_still_on_within_the_goal_tolerance_beyond_forward_point_distance():
     assert c.score(trajectories([ending_at(4.45, 2.75, 0.0)]), cm).tolist() == [2.0]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav map_grid.py:114 checks only the last forward point for leaving the grid "
-    "when stop_on_failure is off; with aggregation 'sum' Nav2 scores every pose and any "
-    "forward point off the grid makes the trajectory illegal",
-)
 def test_sum_aggregation_rejects_any_forward_point_off_the_grid():
     c, cm = prepared(aggregation_type="sum")
     from_off_the_map = straight(-0.55, 2.55, 0.0, 0.1, 6)  # first forward point x = -0.25

@@ -74,12 +74,6 @@ def test_scale_is_the_weight():
     assert critic(scale=32.0).get_scale(costmap()) == 32.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav map_grid.py:106-107 takes the Manhattan distance to the Euclidean-nearest "
-    "seed cell; Nav2's flood (CostmapQueue with manhattan=true) gives the smallest "
-    "Manhattan distance to any seed, which can be a different cell",
-)
 def test_distance_is_the_smallest_manhattan_distance_to_the_plan():
     # A plan sloping up at 1 in 2 from (0.05, 0.05); a trajectory ending at cell (0, 10).
     plan = line_plan(0.05, 0.05, 4.05, 2.05)
@@ -91,12 +85,6 @@ def test_distance_is_the_smallest_manhattan_distance_to_the_plan():
     assert score.tolist() == [10.0]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav map_grid.py:22-31 (dense_plan) fills plan gaps with points at most one "
-    "cell apart; Nav2's adjustPlanResolution inserts int((gap - 2 res) / res) - 2 points, "
-    "wider than a cell, so some cells under a sparse plan are not seeded",
-)
 def test_sparse_plans_are_densified_as_nav2_does():
     # Two plan points 1 m apart along row 0. Nav2 inserts 6 points, 1/7 m apart, at
     # x = 0.193, 0.336, 0.479, 0.621, 0.764, 0.907: cells 0, 1, 3, 4, 6, 7, 9, 10 are seeded

@@ -114,11 +114,6 @@ def test_lookahead_time_scores_the_yaw_at_that_time():
     assert c.score(turning, costmap())[0] == pytest.approx(1.0 - 0.8)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav rotate_to_goal.py:48-50 takes the pose nearest lookahead_time; Nav2's "
-    "projectPose interpolates between the poses around it (slerp of the yaw)",
-)
 def test_lookahead_time_between_poses_interpolates():
     poses = np.stack([np.full(5, 2.85), np.full(5, 2.55), [0.0, 0.2, 0.4, 0.6, 0.8]], -1)
     turning = trajectories([poses], [(0.0, 0.0, 2.0)], dt=0.1)

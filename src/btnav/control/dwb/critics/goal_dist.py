@@ -10,4 +10,4 @@ from .map_grid import MapGridCritic, plan_cells_on_costmap
 class GoalDistCritic(MapGridCritic):
     def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
         cells = plan_cells_on_costmap(plan, costmap)
-        return self.set_seeds(cells[-1:])
+        return self.set_seeds(cells[-1:], costmap)

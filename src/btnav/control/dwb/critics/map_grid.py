@@ -1,8 +1,10 @@
-"""dwb_critics::MapGridCritic: the Manhattan cell distance to the nearest seed cell (path or goal).
+"""dwb_critics::MapGridCritic: each cell's Manhattan distance (cells) to the nearest seed cell.
 
-Nav2 floods the whole grid from the seed cells; only the trajectory's scored
-pose needs the value, so this looks up the nearest seed (Euclidean, as the
-flood order) with a KD-tree and returns the Manhattan distance in cells to it.
+Nav2 floods the grid from the seed cells (the plan, or the goal) with a 4-connected
+queue ordered by Manhattan distance: a breadth-first search, so every cell gets its
+smallest Manhattan distance to any seed, through obstacles too (Nav2's MapGridQueue
+queues every cell). `scipy.ndimage.distance_transform_cdt` with the taxicab metric is
+that same distance field as one vectorised pass.
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
-from scipy.spatial import cKDTree
+from scipy.ndimage import distance_transform_cdt
 
 from ....core import fmath
 from ....costmap.cost_values import NO_INFORMATION
@@ -20,13 +22,22 @@ from ..critic import Trajectories, TrajectoryCritic
 
 
 def dense_plan(plan: NDArray[np.float64], resolution: float) -> NDArray[np.float64]:
-    """nav_2d_utils::adjustPlanResolution: insert points so no gap exceeds the costmap resolution."""
+    """nav_2d_utils::adjustPlanResolution: a gap wider than two cells gets
+    `int((gap - 2 res) / res) - 2` evenly spaced points (so still gaps of about a cell)."""
     if len(plan) < 2:
         return plan[:, :2]
     seg = np.diff(plan[:, :2], axis=0)
-    n = np.maximum(np.ceil(fmath.hypot(seg[:, 0], seg[:, 1]) / resolution).astype(int), 1)
+    sq = seg[:, 0] * seg[:, 0] + seg[:, 1] * seg[:, 1]
+    min_sq = resolution * resolution * 4.0
+    steps = np.zeros(len(seg), np.int64)
+    wide = sq > min_sq
+    steps[wide] = ((np.sqrt(sq[wide]) - np.sqrt(min_sq)) / resolution).astype(np.int64) - 1
+    n_in = np.maximum(steps - 1, 0)
+    # each segment i: its start point, then points j = 1 .. steps-1 at start + j * seg / steps
+    n = n_in + 1
     idx = np.repeat(np.arange(len(seg)), n)
-    frac = (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
+    j = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+    frac = j / np.repeat(np.maximum(steps, 1), n)
     pts = plan[idx, :2] + seg[idx] * frac[:, None]
     return np.vstack([pts, plan[-1:, :2]])
 
@@ -57,8 +68,8 @@ class MapGridCritic(TrajectoryCritic):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        self._tree: cKDTree | None = None
-        self._seeds = np.zeros((0, 2))
+        #: (ny, nx) Manhattan cells to the nearest seed (Nav2's cell_values_).
+        self._cell_values: NDArray[np.int32] | None = None
 
     def near_goal(self, pose, goal) -> bool:
         """Within the goal window where only the final yaw matters (the align critics' off switch).
@@ -76,12 +87,14 @@ class MapGridCritic(TrajectoryCritic):
         )
         return (pose.x - goal.x) ** 2 + (pose.y - goal.y) ** 2 <= radius * radius
 
-    def set_seeds(self, cells: NDArray[np.int64]) -> bool:
+    def set_seeds(self, cells: NDArray[np.int64], costmap: Costmap2D) -> bool:
+        """Flood the costmap's grid from `cells` (mx, my); False (prepare fails) if none."""
         if len(cells) == 0:
-            self._tree = None
+            self._cell_values = None
             return False
-        self._seeds = np.unique(cells, axis=0).astype(float)
-        self._tree = cKDTree(self._seeds)
+        free = np.ones(costmap.costs.shape, bool)
+        free[cells[:, 1], cells[:, 0]] = False
+        self._cell_values = distance_transform_cdt(free, metric="taxicab")
         return True
 
     def _points(self, trajs: Trajectories) -> NDArray[np.float64]:
@@ -97,19 +110,18 @@ class MapGridCritic(TrajectoryCritic):
         return xy
 
     def score(self, trajs: Trajectories, costmap: Costmap2D) -> NDArray[np.float64]:
-        xy = self._points(trajs)
-        S, T = xy.shape[:2]
-        m, inside = costmap.world_to_map(xy)
+        """Nav2's scoreTrajectory: every scored pose must be on the grid (else illegal)."""
+        m, inside = costmap.world_to_map(self._points(trajs))
+        assert self._cell_values is not None
+        ny, nx = self._cell_values.shape
+        values = self._cell_values[
+            np.clip(m[..., 1], 0, ny - 1), np.clip(m[..., 0], 0, nx - 1)
+        ].astype(float)
         agg = self.params.aggregation_type
-        query = m[:, -1] if agg == "last" else m.reshape(-1, 2)
-        assert self._tree is not None
-        _, nearest = self._tree.query(query.astype(float))
-        manhattan = np.abs(self._seeds[nearest] - query).sum(axis=-1)
         if agg == "last":
-            score = manhattan
+            score = values[:, -1]
         elif agg == "sum":
-            score = manhattan.reshape(S, T).sum(axis=1)
+            score = values.sum(axis=1)
         else:
-            score = np.prod(manhattan.reshape(S, T), axis=1)
-        off = ~inside.all(axis=1) if self.stop_on_failure else ~inside[:, -1]
-        return np.where(off, np.inf, score.astype(float))
+            score = np.prod(values, axis=1)
+        return np.where(inside.all(axis=1), score, np.inf)

@@ -9,4 +9,4 @@ from .map_grid import MapGridCritic, plan_cells_on_costmap
 @register("critic", "dwb_critics::PathDist", aliases=["dwb_critics::PathDistCritic"])
 class PathDistCritic(MapGridCritic):
     def prepare(self, pose, velocity, goal, plan, costmap) -> bool:
-        return self.set_seeds(plan_cells_on_costmap(plan, costmap))
+        return self.set_seeds(plan_cells_on_costmap(plan, costmap), costmap)

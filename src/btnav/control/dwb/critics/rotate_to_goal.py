@@ -45,12 +45,18 @@ class RotateToGoalCritic(TrajectoryCritic):
         return True
 
     def _rotation(self, trajs):
-        if self.params.lookahead_time >= 0.0:
-            k = min(round(self.params.lookahead_time / trajs.dt), trajs.poses.shape[1] - 1)
-            yaw = trajs.poses[:, k, 2]
+        """The yaw error at `lookahead_time` (dwb_core::projectPose: between two poses the
+        yaw is slerped, past the end the last pose), or at the end when it is negative."""
+        yaw = trajs.poses[:, :, 2]
+        t = self.params.lookahead_time
+        last = yaw.shape[1] - 1
+        if t < 0.0 or t >= last * trajs.dt:
+            at = yaw[:, -1]
         else:
-            yaw = trajs.poses[:, -1, 2]
-        return np.abs(angle_diff(self.goal_yaw, yaw))
+            i = min(int(t / trajs.dt), last - 1)
+            ratio = (t - i * trajs.dt) / trajs.dt
+            at = yaw[:, i] + ratio * angle_diff(yaw[:, i + 1], yaw[:, i])
+        return np.abs(angle_diff(self.goal_yaw, at))
 
     def score(self, trajs, costmap):
         S = len(trajs)
