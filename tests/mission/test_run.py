@@ -103,6 +103,7 @@ def test_an_unreachable_goal_fails_with_nav2s_code_after_the_recoveries(tmp_path
 
 DOORWAY = REPO / "missions" / "doorway_closing.yaml"
 CONTROLLER_PARAMS = {
+    "dwb": REPO / "params" / "nav2_params_dwb.yaml",
     "mppi": REPO / "params" / "nav2_params.yaml",
     "rpp": REPO / "params" / "nav2_params_rpp.yaml",
 }
