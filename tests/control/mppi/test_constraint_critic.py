@@ -100,12 +100,6 @@ def test_ackermann_penalises_turns_tighter_than_the_minimum_radius():
     assert data.costs == pytest.approx([0.0, 0.2304, 0.2304], abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav constraint_critic.py:37-40 scores the turning radius only where |wz| > 1e-6; "
-    "Nav2 floors |wz| at 1e-6 and always scores max(min_turning_r - |vx| / |wz|, 0), so a "
-    "rollout standing still (vx = wz = 0, radius 0) pays min_turning_r per step",
-)
 def test_ackermann_standing_still_pays_the_minimum_radius_as_nav2s_does():
     data = make_data(batch=1, steps=T, vx=0.0, wz=0.0, min_turning_r=0.2)
     critic().score(data)

@@ -167,11 +167,6 @@ def test_consider_footprint_inscribed_centre_is_not_a_collision():
     assert data.costs[1] == pytest.approx(300 * SCALE, rel=1e-5)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav cost_critic.py:70 ORs fail_flag with earlier critics' verdicts; Nav2 "
-    "assigns data.fail_flag = all_trajectories_collide, clearing an earlier flag",
-)
 def test_fail_flag_is_this_critics_verdict():
     trajs, cm = scene()
     data = data_for(trajs, cm, fail_flag=True)

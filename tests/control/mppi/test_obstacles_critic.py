@@ -129,12 +129,6 @@ def test_cost_power_raises_the_whole_term():
 # -- Nav2's numbers -------------------------------------------------------------------------
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav obstacles_critic.py:51-56 recovers the distance from the cell's centre to "
-    "the obstacle, r + ln(252 / cost) / k; Nav2 uses the clearance past the inscribed "
-    "radius, ln(253 / cost) / k, for both the margin test and the repulsion",
-)
 def test_repulsion_and_margin_use_the_clearance():
     trajs, cm = scene()
     data = scored(trajs[:3], cm)
@@ -145,36 +139,18 @@ def test_repulsion_and_margin_use_the_clearance():
     assert data.costs[2] == pytest.approx(expected_high, rel=1e-4)  # 6.909
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav obstacles_critic.py:51-56,73: its distance includes the inscribed radius "
-    "(>= 0.22 m on any non-colliding cell), so the critical term never fires; Nav2 charges "
-    "critical_weight * (margin - clearance) for clearances under collision_margin_distance",
-)
 def test_near_the_goal_a_point_inside_the_margin_pays_the_critical_term():
     trajs, cm = scene()
     data = scored(trajs[:3], cm, path=straight_path(0.4))
     assert data.costs[2] == pytest.approx(CRITICAL_W * T * (MARGIN - clearance(200)), rel=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav obstacles_critic.py:80 divides the repulsive sum by the points only; Nav2 "
-    "subtracts the batch's smallest repulsive sum first, so the least-repelled rollout "
-    "pays no repulsion",
-)
 def test_the_least_repelled_rollout_pays_no_repulsion():
     trajs, cm = scene()
     data = scored(trajs[1:3], cm)  # no rollout in free space
     assert data.costs[0] == pytest.approx(0.0, abs=1e-6)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav obstacles_critic.py:82 makes a colliding rollout cost collision_cost; Nav2 "
-    "multiplies it by critical_weight (20 * 1e5 = 2e6) and adds the normalised repulsion "
-    "gathered before the collision",
-)
 def test_collision_cost_is_weighted_by_the_critical_weight():
     trajs, cm = scene()
     data = scored([trajs[0], trajs[3]], cm)  # free, then free cells into a lethal cell

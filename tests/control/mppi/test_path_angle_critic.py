@@ -137,11 +137,6 @@ def test_only_the_last_pose_is_scored():
     assert data.costs[0] == pytest.approx(0.0, abs=1e-5)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_angle_critic.py:53-55 keeps mode 1 whatever vx_min is; Nav2 falls "
-    "back to forward preference (mode 0) when the controller's vx_min is 0",
-)
 def test_no_directional_preference_without_reversing_is_forward_preference():
     data = scored(mode=1, data_kw={"vx_min": 0.0})
     assert data.costs[0] == pytest.approx(W * TO_TARGET, abs=1e-4)

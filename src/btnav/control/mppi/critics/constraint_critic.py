@@ -33,9 +33,7 @@ class ConstraintCritic(CriticFunction):
             vy = np.abs(data.vy)
             over = over + np.maximum(vy - np.float32(data.vy_max), 0)
         if data.min_turning_r is not None:
-            wz = np.abs(data.wz)
-            radius = np.abs(vx) / np.maximum(wz, np.float32(1e-6))
-            over = over + np.where(
-                wz > 1e-6, np.maximum(np.float32(data.min_turning_r) - radius, 0), 0
-            ).astype(np.float32)
+            # Nav2 floors |wz| at 1e-6: standing still (radius 0) is below the minimum too
+            radius = np.abs(vx) / np.maximum(np.abs(data.wz), np.float32(1e-6))
+            over = over + np.maximum(np.float32(data.min_turning_r) - radius, np.float32(0.0))
         self.add(data, over.sum(axis=1) * np.float32(data.model_dt))

@@ -67,6 +67,6 @@ class CostCritic(CriticFunction):
             point_cost = np.where(critical, np.float32(p.critical_cost), costs.astype(np.float32))
         raw = point_cost.sum(axis=1, dtype=np.float32)
         raw[collide] = np.float32(p.collision_cost)
-        data.fail_flag = data.fail_flag or bool(collide.all())
+        data.fail_flag = bool(collide.all())  # Nav2 assigns: this critic's verdict
         scale = np.float32(1.0 / (254.0 * xs.shape[1]))
         self.add(data, raw * scale)

@@ -7,7 +7,6 @@ from numpy.typing import NDArray
 from pydantic import Field
 
 from ....core import fmath
-from ....costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from ....params.schema import ignored
 from ....plugins import register
 from ..critic_data import CriticData, cell_costs, in_collision, tracking_unknown
@@ -16,20 +15,26 @@ from ..critic_function import NAMESPACE, CriticFunction
 
 @register("critic", NAMESPACE + "ObstaclesCritic")
 class ObstaclesCritic(CriticFunction):
-    """Inverts the inflation layer's exponential decay to get a distance to the nearest
-    obstacle at each rollout point; rollouts closer than `collision_margin_distance`
-    pay `critical_weight` per metre inside the margin, others (while the pruned path is
-    at least `near_goal_distance` long)
-    `repulsion_weight` per metre inside `inflation_radius`; a collision costs
-    `collision_cost`. Circle only (see `critic_data.in_collision`).
+    """Nav2's ObstaclesCritic: inverts the inflation layer's exponential decay to get each
+    rollout point's clearance (from the robot's inscribed circle to the nearest obstacle,
+    `ln(253 / cost) / cost_scaling_factor`). A clearance under `collision_margin_distance`
+    adds `margin - clearance` to the critical term; away from the goal (the pruned path at
+    least `near_goal_distance` long) every non-free point adds `inflation_radius -
+    clearance` to the repulsive term, which is normalised by the horizon after taking off
+    the batch's smallest. A rollout stops being scored at its first collision and costs
+    `collision_cost` in place of its critical term. The whole is `(critical_weight *
+    critical + repulsion_weight * repulsive) ** cost_power`: Nav2 reads no cost_weight here.
+    Circle only (see `critic_data.in_collision`).
 
     The inflation parameters are this critic's own (`inflation_radius`,
-    `cost_scaling_factor`, `inscribed_radius`): set them to your inflation layer's,
-    as Nav2 Humble required.
+    `cost_scaling_factor`, `inscribed_radius`), as Nav2 Humble's: set them to your
+    inflation layer's (Nav2 now reads that layer).
     """
 
     class Params(CriticFunction.Params):
-        cost_weight: float = Field(1.0, ge=0.0)
+        cost_weight: float = ignored(
+            1.0, "Nav2's ObstaclesCritic weighs by critical_weight and repulsion_weight", ge=0.0
+        )
         critical_weight: float = Field(20.0, ge=0.0)
         repulsion_weight: float = Field(1.5, ge=0.0)
         consider_footprint: bool = False
@@ -42,20 +47,14 @@ class ObstaclesCritic(CriticFunction):
         trajectory_point_step: int = Field(1, ge=1)
         inflation_layer_name: str = ignored("", "btnav reads the critic's own inflation keys")
 
-    def _distances(self) -> NDArray[np.float32]:
-        """The distance each cost value (0..255) stands for, computed once per parameters:
-        cost = 252 exp(-k (d - r))  =>  d = r - ln(cost / 252) / k; free cells are far.
-        (A table lookup, and `fmath.log`: np.log's bits depend on the CPU.)"""
-        p = self.params
-        key = (p.inscribed_radius, p.cost_scaling_factor, p.inflation_radius)
-        if getattr(self, "_table_key", None) != key:
-            costs = np.arange(256)
-            c = np.clip(costs.astype(np.float32), 1.0, INSCRIBED_INFLATED_OBSTACLE - 1)
-            dist = np.float32(p.inscribed_radius) - fmath.log(c / np.float32(252.0)) / np.float32(
-                p.cost_scaling_factor
-            )
-            self._table = np.where(costs == 0, np.float32(p.inflation_radius), dist)
-            self._table_key = key
+    def _clearances(self) -> NDArray[np.float32]:
+        """The clearance each cost value (0..255) stands for, computed once per parameters
+        (a table lookup, and `fmath.log`: np.log's bits depend on the CPU)."""
+        k = self.params.cost_scaling_factor
+        if getattr(self, "_table_key", None) != k:
+            c = np.maximum(np.arange(256, dtype=np.float32), np.float32(1.0))
+            self._table = (fmath.log(np.float32(253.0)) - fmath.log(c)) / np.float32(k)
+            self._table_key = k
         return self._table
 
     def score(self, data: CriticData) -> None:
@@ -64,22 +63,26 @@ class ObstaclesCritic(CriticFunction):
         p = self.params
         step = p.trajectory_point_step
         costs = cell_costs(data.costmap, data.x[:, ::step], data.y[:, ::step])
-        collide = in_collision(
+        collide_pt = in_collision(
             costs,
             consider_footprint=p.consider_footprint,
             tracking_unknown=tracking_unknown(data.costmap),
-        ).any(axis=1)
-        dist = self._distances()[costs]
+        )
+        # scored: the non-free points before a rollout's first collision
+        scored = (costs > 0) & ~np.logical_or.accumulate(collide_pt, axis=1)
+        clearance = self._clearances()[costs]
         margin = np.float32(p.collision_margin_distance)
-        critical = np.where(dist < margin, margin - dist, np.float32(0.0)).sum(axis=1)
+        zero = np.float32(0.0)
+        critical = np.where(scored & (clearance < margin), margin - clearance, zero).sum(axis=1)
         repulsive = np.zeros_like(critical)
         if data.local_path_length() >= p.near_goal_distance:
-            repulsive = np.maximum(np.float32(p.inflation_radius) - dist, 0).sum(axis=1)
-        n = np.float32(costs.shape[1])
-        raw = (
-            np.float32(p.critical_weight) * critical
-            + np.float32(p.repulsion_weight) * repulsive / n
-        )
-        raw = np.where(collide, np.float32(p.collision_cost), raw).astype(np.float32)
-        data.fail_flag = data.fail_flag or bool(collide.all())
-        self.add(data, raw)
+            repulsive = np.where(scored, np.float32(p.inflation_radius) - clearance, zero)
+            repulsive = repulsive.sum(axis=1)
+        collide = collide_pt.any(axis=1)
+        raw = np.where(collide, np.float32(p.collision_cost), critical)
+        normalised = (repulsive - repulsive.min()) / np.float32(costs.shape[1])
+        term = np.float32(p.critical_weight) * raw + np.float32(p.repulsion_weight) * normalised
+        if self.power != 1:
+            term = term**self.power
+        data.costs += term.astype(np.float32, copy=False)
+        data.fail_flag = bool(collide.all())

@@ -53,6 +53,8 @@ class PathAngleCritic(CriticFunction):
         mode = p.mode
         if p.forward_preference is not None and "mode" not in p.model_fields_set:
             mode = FORWARD_PREFERENCE if p.forward_preference else NO_DIRECTIONAL_PREFERENCE
+        if mode == NO_DIRECTIONAL_PREFERENCE and abs(data.vx_min) < 1e-6:
+            mode = FORWARD_PREFERENCE  # Nav2: no reversing, so no "either way" either
         idx = min(data.furthest_reached_path_point() + p.offset_from_furthest, n - 1)
         gx, gy, gyaw = (float(v) for v in data.path[idx])
         robot = data.robot
