@@ -14,6 +14,7 @@ from btnav.core.geometry import Pose2D
 from btnav.core.messages import Twist
 from btnav.plugins import lookup
 
+from .mppi.batch import costmap_server
 from .unicycle import curved_path, drive, free_costmap, straight_path
 
 
@@ -81,6 +82,32 @@ def test_slows_on_sharp_curvature_and_near_obstacles():
     slow = ctrl.compute_velocity_commands(Pose2D(), Twist(linear_x=0.3), cm).linear_x
     assert slow < straight
     assert slow >= ctrl.params.regulated_linear_scaling_min_speed
+
+
+def test_cost_regulation_measures_from_the_robots_edge_as_nav2_does():
+    # Nav2 turns a centre cost into a distance with the layered costmap's inscribed radius:
+    # (k r - ln cost + ln 253) / k; the server's radius makes the robot slow down less.
+    cm = free_costmap()
+    cm.costs[:, :] = 200
+    server = costmap_server(robot_radius=0.22)
+    speeds = []
+    for configured in (False, True):
+        ctrl = RPP(params=RPP.Params(use_cost_regulated_linear_velocity_scaling=True))
+        if configured:
+            ctrl.configure(server)
+        ctrl.set_plan(straight_path())
+        speeds.append(ctrl.compute_velocity_commands(Pose2D(), Twist(linear_x=0.3), cm).linear_x)
+    p = ctrl.params
+    clearance = math.log(253.0 / 200.0) / p.inflation_cost_scaling_factor
+    expected = [
+        max(
+            p.max_linear_vel * p.cost_scaling_gain * d / p.cost_scaling_dist,
+            p.regulated_linear_scaling_min_speed,
+        )
+        for d in (clearance, server.inscribed_radius + clearance)
+    ]
+    assert speeds == pytest.approx(expected, rel=1e-6)
+    assert speeds[1] > speeds[0]
 
 
 def test_approach_velocity_scaling():

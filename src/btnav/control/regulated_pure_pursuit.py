@@ -273,7 +273,7 @@ class RegulatedPurePursuitController(Controller):
         else:
             self.is_rotating_to_heading = False
             cost = float(costmap.cost_at_point(pose.x, pose.y))
-            linear = self._constrained_linear(curvature, cost, local, costmap, length) * sign
+            linear = self._constrained_linear(curvature, cost, local, length) * sign
             angular = linear * curvature
 
         if p.use_collision_detection:
@@ -305,7 +305,6 @@ class RegulatedPurePursuitController(Controller):
         curvature: float,
         pose_cost: float,
         local: NDArray[np.float64],
-        costmap: Costmap2D,
         length: float | None = None,
     ) -> float:
         p = self.params
@@ -320,7 +319,8 @@ class RegulatedPurePursuitController(Controller):
             NO_INFORMATION,
             FREE_SPACE,
         ):
-            inscribed = float(getattr(costmap, "inscribed_radius", 0.0) or 0.0)
+            # Nav2 reads the layered costmap's inscribed radius (0 without a costmap server)
+            inscribed = self.costmap_ros.inscribed_radius if self.costmap_ros is not None else 0.0
             k = p.inflation_cost_scaling_factor
             dist = (k * inscribed - fmath.log(float(pose_cost)) + fmath.log(253.0)) / k
             if dist < p.cost_scaling_dist:

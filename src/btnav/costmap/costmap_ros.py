@@ -25,6 +25,7 @@ from ..params.costmap import CostmapParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.schema import field_named_list, validate_section
 from .costmap_2d import Costmap2D
+from .inflation_layer import InflationLayer, inflation_cost
 from .layer import Layer, Window
 from .layered_costmap import LayeredCostmap, robot_footprint
 
@@ -131,6 +132,32 @@ class CostmapROS:
     @property
     def circumscribed_radius(self) -> float:
         return self.layered.circumscribed_radius
+
+    @property
+    def use_radius(self) -> bool:
+        """Whether the footprint is the circle of `robot_radius` (no `footprint` given)."""
+        return len(self.params.footprint) == 0
+
+    def inflation_layer(self, name: str = "") -> InflationLayer | None:
+        """Nav2's InflationLayerInterface::getInflationLayer: the layer called `name`, or
+        with no name the first inflation layer; None if there is none."""
+        for layer in self.layers:
+            if isinstance(layer, InflationLayer) and (not name or layer.name == name):
+                return layer
+        return None
+
+    def circumscribed_cost(self, inflation_layer_name: str = "") -> float:
+        """The inflation cost at the circumscribed radius (Nav2's findCircumscribedCost): a
+        cell cheaper than this cannot put any part of the footprint on an obstacle, so
+        only dearer ones need the footprint checked. -1 without an inflation layer."""
+        layer = self.inflation_layer(inflation_layer_name)
+        if layer is None:
+            return -1.0
+        return float(
+            inflation_cost(
+                self.circumscribed_radius, self.inscribed_radius, layer.params.cost_scaling_factor
+            )
+        )
 
     @property
     def update_period(self) -> float:

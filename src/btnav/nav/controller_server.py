@@ -68,6 +68,8 @@ class ControllerServer(PluginServer):
         seed: int | None = None,
     ) -> None:
         super().__init__(runtime, params, costmap, seed=seed)
+        for controller in self.controllers.values():
+            controller.configure(costmap.costmap_ros)
         self.rate = float(params.model.controller_frequency)
         self.goal_checkers: dict[str, Any] = make_plugins(params, "goal_checker")
         self.progress_checkers: dict[str, Any] = make_plugins(params, "progress_checker")
@@ -297,6 +299,7 @@ class ControllerServer(PluginServer):
                 self.path_handler.params = section.params
             elif name in self.controllers and section.params != self.controllers[name].params:
                 fresh = make_plugin(section, seed=self.seed, server=params.name)
+                fresh.configure(self.costmap.costmap_ros)
                 if self.controller is self.controllers[name]:
                     self.controller = fresh
                     self._fed_transform = None

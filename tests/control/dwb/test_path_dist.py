@@ -10,7 +10,6 @@ the trajectory illegal.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from btnav.control.dwb.critics.path_dist import PathDistCritic
 from btnav.core.geometry import Pose2D

@@ -16,6 +16,9 @@ import numpy as np
 from btnav.control.mppi.critic_data import CriticData
 from btnav.costmap.cost_values import NO_INFORMATION
 from btnav.costmap.costmap_2d import Costmap2D
+from btnav.costmap.costmap_ros import CostmapROS
+from btnav.costmap.inflation_layer import InflationLayer
+from btnav.params.costmap import CostmapParams
 
 RES = 0.05
 ORIGIN = -2.525  # cell (i, j) is centred on (ORIGIN + (i + 0.5) RES, ...): multiples of 5 cm
@@ -76,6 +79,31 @@ def polyline(*corners: tuple[float, float], step: float = 0.05) -> np.ndarray:
     last = out[-1][-1, 2]
     out.append(np.array([[corners[-1][0], corners[-1][1], last]]))
     return np.concatenate(out)
+
+
+def costmap_server(
+    footprint=None, *, robot_radius: float = 0.22, k: float = 10.0, radius: float = 0.55
+):
+    """The local costmap server a controller is configured with: its footprint (a polygon,
+    or the circle of `robot_radius`) and an inflation layer (cost_scaling_factor k,
+    inflation_radius); `k=None`: no inflation layer. Critics read its footprint, radii and
+    layer; the costs they score come from the hand-made grid in CriticData."""
+    params = CostmapParams(footprint=footprint or (), robot_radius=robot_radius)
+    layers = (
+        []
+        if k is None
+        else [
+            InflationLayer(
+                "inflation_layer",
+                InflationLayer.Params(cost_scaling_factor=k, inflation_radius=radius),
+            )
+        ]
+    )
+    return CostmapROS("local_costmap", params, layers)
+
+
+#: A long robot, 1.0 x 0.3 m: inscribed radius 0.15 m, circumscribed 0.52 m.
+LONG_ROBOT = [[0.5, 0.15], [0.5, -0.15], [-0.5, -0.15], [-0.5, 0.15]]
 
 
 def path_length(path: np.ndarray) -> float:

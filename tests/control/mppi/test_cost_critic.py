@@ -15,9 +15,19 @@ import numpy as np
 import pytest
 
 from btnav.control.mppi.critics import CostCritic
+from btnav.core.errors import ParamsError
 from btnav.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 
-from .batch import costmap, line, make_data, paint, polyline, straight_path
+from .batch import (
+    LONG_ROBOT,
+    costmap,
+    costmap_server,
+    line,
+    make_data,
+    paint,
+    polyline,
+    straight_path,
+)
 
 T = 5  # rollout points 0..4; with trajectory_point_step 2, points 0, 2 and 4 are scored
 SCALE = 3.81 / 254.0 / 3  # cost_weight / 254 / evaluated points
@@ -151,20 +161,44 @@ def test_near_goal_is_judged_by_path_length():
     assert data.costs[1] == pytest.approx(0.85, rel=1e-5)  # not near the goal: cells count
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav critic_data.py:120-134 (in_collision) treats an inscribed centre as a "
-    "collision even with consider_footprint; Nav2 then checks the footprint's own cells "
-    "and, if they are free, scores the inscribed centre as critical_cost",
-)
+SQUARE_ROBOT = [[0.2, 0.2], [0.2, -0.2], [-0.2, -0.2], [-0.2, 0.2]]
+
+
 def test_consider_footprint_inscribed_centre_is_not_a_collision():
     cm = costmap()
     # A lone inscribed cell with no lethal cell anywhere: any footprint larger than a cell
     # has an outline over free cells only, so Nav2's footprint check finds no collision.
     paint(cm, [(0.1, 0.5)], INSCRIBED_INFLATED_OBSTACLE)
     data = data_for([row(0.0), row(0.5)], cm)
-    critic(consider_footprint=True).score(data)
+    c = critic(consider_footprint=True)
+    c.configure(costmap_server(SQUARE_ROBOT))
+    c.score(data)
     assert data.costs[1] == pytest.approx(300 * SCALE, rel=1e-5)
+
+
+def test_consider_footprint_sees_a_long_robots_nose_on_a_wall():
+    # The centre's cost says 0.5 m to the obstacle, beyond the inscribed radius: the
+    # circle check lets it pass; the 1 m long footprint's front edge is on the lethal cell.
+    cm = costmap()
+    paint(cm, [(0.0, 0.0)], 88)  # the inflation cost 0.5 m from an obstacle (k = 3)
+    paint(cm, [(0.5, 0.0)], LETHAL_OBSTACLE)
+    standing = [np.zeros((T, 3))]
+    circle = data_for(standing, cm)
+    critic().score(circle)
+    assert circle.costs[0] == pytest.approx(3 * 88 * SCALE, rel=1e-5)  # scored, not a collision
+    assert not circle.fail_flag
+    footprint = data_for(standing, cm)
+    c = critic(consider_footprint=True)
+    c.configure(costmap_server(LONG_ROBOT, k=3.0, radius=0.7))
+    c.score(footprint)
+    assert footprint.costs[0] == pytest.approx(1e6 * SCALE, rel=1e-5)
+    assert footprint.fail_flag
+
+
+def test_consider_footprint_on_a_round_robot_is_refused_as_nav2_does():
+    with pytest.raises(ParamsError, match="consider_footprint") as info:
+        critic(consider_footprint=True).configure(costmap_server())
+    assert "footprint" in str(info.value)
 
 
 def test_fail_flag_is_this_critics_verdict():

@@ -11,8 +11,9 @@ from the goal, local_path_length >= near_goal_distance) every point adds
 (repulsive - min over the batch) / points`, raised to cost_power. fail_flag: every
 rollout collides.
 
-The inflation parameters here (0.55 m, 10, inscribed 0.22 m) are those of the inflation
-layer that painted the costs; Nav2 reads them from that layer, btnav from the critic.
+The inflation parameters are those of the inflation layer that painted the costs, read
+from the local costmap the controller is configured with (Nav2 Humble's own keys win
+when given); a critic on its own uses Humble's defaults (0.55 m, 10, inscribed 0.22 m).
 """
 
 from __future__ import annotations
@@ -25,7 +26,16 @@ import pytest
 from btnav.control.mppi.critics import ObstaclesCritic
 from btnav.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 
-from .batch import costmap, line, make_data, paint, polyline, straight_path
+from .batch import (
+    LONG_ROBOT,
+    costmap,
+    costmap_server,
+    line,
+    make_data,
+    paint,
+    polyline,
+    straight_path,
+)
 
 T = 4
 K, R_INFL = 10.0, 0.55  # the inflation layer's cost_scaling_factor and inflation_radius
@@ -165,14 +175,53 @@ def test_near_goal_is_judged_by_path_length():
     assert data.costs[1] > 0.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav critic_data.py:120-134 (in_collision) treats an inscribed centre as a "
-    "collision even with consider_footprint; Nav2 then takes the footprint's cost, which "
-    "over free cells is free",
-)
 def test_consider_footprint_inscribed_centre_over_free_footprint_is_free():
     cm = costmap()
     paint(cm, [(0.05, 0.5)], INSCRIBED_INFLATED_OBSTACLE)  # a lone cell, no lethal anywhere
-    data = scored([row(0.0), row(0.5)], cm, consider_footprint=True)
+    data = make_data([row(0.0), row(0.5)], cm=cm, path=straight_path(3.0))
+    c = critic(consider_footprint=True)
+    c.configure(costmap_server([[0.2, 0.2], [0.2, -0.2], [-0.2, -0.2], [-0.2, 0.2]]))
+    c.score(data)
     assert data.costs[1] == 0.0
+
+
+def test_consider_footprint_sees_a_long_robots_nose_on_a_wall():
+    cm = costmap()
+    paint(cm, [(0.0, 0.0)], 88)  # the inflation cost 0.5 m from an obstacle (k = 3)
+    paint(cm, [(0.5, 0.0)], LETHAL_OBSTACLE)  # under the footprint's front edge
+    standing = [np.zeros((T, 3)), row(1.0)]
+    c = critic(consider_footprint=True)
+    c.configure(costmap_server(LONG_ROBOT, k=3.0, radius=0.7))
+    data = make_data(standing, cm=cm, path=straight_path(3.0))
+    c.score(data)
+    assert data.costs[0] >= CRITICAL_W * COLLISION and not data.fail_flag
+    circle = scored(standing, cm)
+    assert circle.costs[0] < COLLISION
+
+
+def test_the_inflation_layers_parameters_are_read_from_the_costmap():
+    # Nav2's local costmap inflates with k = 3, 0.7 m; the critic has no keys of its own.
+    trajs, cm = scene()
+    c = critic()
+    c.configure(costmap_server(k=3.0, radius=0.7))
+    data = make_data(trajs[:3], cm=cm, path=straight_path(3.0))
+    c.score(data)
+    low = (math.log(253.0) - math.log(50)) / 3.0  # 0.54 m
+    high = (math.log(253.0) - math.log(200)) / 3.0  # 0.078 m: inside the margin
+    repulsion = [T * (0.7 - low) / T, T * (0.7 - high) / T]  # before the batch minimum
+    assert data.costs[1] == pytest.approx(REPULSION_W * repulsion[0], rel=1e-4)
+    assert data.costs[2] == pytest.approx(
+        CRITICAL_W * T * (MARGIN - high) + REPULSION_W * repulsion[1], rel=1e-4
+    )
+    # Humble's own keys, when given, still win
+    assert critic(cost_scaling_factor=10.0)._inflation()[0] == 10.0
+
+
+def test_without_an_inflation_layer_only_collisions_count():
+    trajs, cm = scene()
+    c = critic()
+    c.configure(costmap_server(k=None))
+    data = make_data(trajs[:4], cm=cm, path=straight_path(3.0))
+    c.score(data)
+    assert data.costs.tolist()[:3] == [0.0, 0.0, 0.0]
+    assert data.costs[3] == pytest.approx(CRITICAL_W * COLLISION)

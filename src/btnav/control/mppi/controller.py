@@ -98,6 +98,13 @@ class MPPIController(Controller):
 
     # -- nav2_core::Controller ------------------------------------------------------------
 
+    def configure(self, costmap_ros: Any) -> None:
+        """As Nav2's critic manager configures each critic with the costmap server."""
+        super().configure(costmap_ros)
+        self.optimizer.costmap_ros = costmap_ros
+        for critic in self.critics:
+            critic.configure(costmap_ros)
+
     def set_plan(self, path: Path) -> None:
         poses = np.asarray(path.poses, dtype=np.float64)
         if poses.ndim != 2 or poses.shape[0] == 0 or poses.shape[1] < 2:

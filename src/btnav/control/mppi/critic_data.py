@@ -21,8 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...core import fmath
+from ...core.errors import ParamsError
 from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ...costmap.costmap_2d import Costmap2D
+from ...costmap.footprint_cost import footprint_costs
 
 F32 = NDArray[np.float32]
 
@@ -153,15 +155,48 @@ def cell_costs(costmap: Costmap2D, x: NDArray[Any], y: NDArray[Any]) -> NDArray[
 def in_collision(
     costs: NDArray[np.uint8], *, consider_footprint: bool, tracking_unknown: bool
 ) -> NDArray[np.bool_]:
-    """Nav2's point collision rule: lethal; inscribed for a circular robot; unknown unless tracked.
-
-    btnav checks the robot as a circle only: with `consider_footprint` the inscribed
-    cost is still treated as collision (the centre in an inscribed cell means a round
-    footprint touches an obstacle); a polygon footprint is not swept.
-    """
-    del consider_footprint  # circle only, see the docstring
-    hit = costs >= INSCRIBED_INFLATED_OBSTACLE
-    hit &= costs <= LETHAL_OBSTACLE
+    """Nav2's collision rule on the costs it checks: lethal; inscribed unless those costs
+    are the footprint's (`consider_footprint`: a footprint merely over inscribed cells
+    touches nothing); unknown unless tracked."""
+    hit = costs == LETHAL_OBSTACLE
+    if not consider_footprint:
+        hit |= costs == INSCRIBED_INFLATED_OBSTACLE
     if not tracking_unknown:
         hit |= costs == NO_INFORMATION
     return hit
+
+
+def footprint_checked(
+    costmap_ros: Any,
+    costmap: Costmap2D,
+    centre: NDArray[np.uint8],
+    x: NDArray[Any],
+    y: NDArray[Any],
+    yaw: NDArray[Any],
+    inflation_layer_name: str = "",
+    *,
+    skip_free: bool = False,
+) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
+    """What Nav2's critics check with `consider_footprint`: the footprint's cost where the
+    centre's cost reaches the circumscribed cost (everywhere without an inflation layer;
+    with `skip_free`, never on a free centre), the centre's elsewhere; and where the
+    footprint's was taken."""
+    possible = costmap_ros.circumscribed_cost(inflation_layer_name)
+    use = centre >= possible if possible >= 1.0 else np.ones(centre.shape, bool)
+    if skip_free:
+        use &= centre > 0
+    out = centre.copy()
+    if use.any():
+        out[use] = footprint_costs(costmap, costmap_ros.footprint, x[use], y[use], yaw[use])
+    return out, use
+
+
+def check_footprint_setting(costmap_ros: Any, critic: str, consider_footprint: bool) -> None:
+    """Nav2 refuses `consider_footprint` on a robot the costmap knows only by its radius."""
+    if consider_footprint and costmap_ros is not None and costmap_ros.use_radius:
+        raise ParamsError(
+            f"true, but {costmap_ros.name} has no footprint (it uses robot_radius): give "
+            "the costmap a `footprint` polygon, or set consider_footprint: false (Nav2 "
+            "refuses this too)",
+            key=f"{critic}.consider_footprint",
+        )

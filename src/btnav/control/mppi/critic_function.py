@@ -8,7 +8,7 @@ list names them without the namespace, as Nav2's does.
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from pydantic import Field
@@ -36,6 +36,13 @@ class CriticFunction:
         self.params = params if params is not None else self.Params()
         self.weight = np.float32(self.params.cost_weight)
         self.power = int(self.params.cost_power)
+
+    #: The local costmap server (Nav2's costmap_ros_), once the controller is configured.
+    costmap_ros: Any = None
+
+    def configure(self, costmap_ros: Any) -> None:
+        """Nav2's on_configure: the costmap server whose footprint and layers critics read."""
+        self.costmap_ros = costmap_ros
 
     @property
     def enabled(self) -> bool:

@@ -29,8 +29,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...core import fmath
+from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from ...costmap.costmap_2d import Costmap2D
-from .critic_data import CriticData, cell_costs, in_collision, tracking_unknown
+from ...costmap.footprint_cost import footprint_costs
+from .critic_data import CriticData, cell_costs
 from .critic_function import CriticFunction
 from .motion_models import MotionModel, predict_one
 from .noise import NoiseGenerator
@@ -68,6 +70,8 @@ class Optimizer:
         self.s = settings
         self.model = model
         self.critics = critics
+        #: The local costmap server (footprint), once the controller is configured.
+        self.costmap_ros: Any = None
         self.holonomic = model.holonomic
         T, B, C = settings.time_steps, settings.batch_size, model.channels
         stds = [settings.vx_std, settings.wz_std, settings.vy_std][:C]
@@ -278,15 +282,17 @@ class Optimizer:
     def _trajectory_valid(
         self, robot: NDArray[np.float64], speed: tuple[float, float, float], costmap: Costmap2D
     ) -> bool:
-        """DefaultOptimalTrajectoryValidator: no collision within `collision_lookahead_time`."""
+        """DefaultOptimalTrajectoryValidator: within `collision_lookahead_time`, no point
+        on a lethal or inscribed cell (points off the grid are skipped), or with
+        `consider_footprint` no pose whose footprint touches a lethal cell."""
         n = min(self.s.time_steps, math.ceil(self.s.collision_lookahead_time / self.s.model_dt))
         if n <= 0:
             return True
         traj = self.optimal_trajectory(robot, speed)[:n]
+        if self.s.validator_consider_footprint and self.costmap_ros is not None:
+            fp = self.costmap_ros.footprint
+            costs = footprint_costs(costmap, fp, traj[:, 0], traj[:, 1], traj[:, 2])
+            return not bool((costs == LETHAL_OBSTACLE).any())
         costs = cell_costs(costmap, traj[:, 0], traj[:, 1])
-        hit = in_collision(
-            costs,
-            consider_footprint=self.s.validator_consider_footprint,
-            tracking_unknown=tracking_unknown(costmap),
-        )
+        hit = (costs == LETHAL_OBSTACLE) | (costs == INSCRIBED_INFLATED_OBSTACLE)
         return not bool(hit.any())

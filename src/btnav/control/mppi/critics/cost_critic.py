@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from pydantic import Field
 
 from ....params.schema import Why, ignored
 from ....plugins import register
-from ..critic_data import CriticData, cell_costs, in_collision, tracking_unknown
+from ..critic_data import (
+    CriticData,
+    cell_costs,
+    check_footprint_setting,
+    footprint_checked,
+    in_collision,
+    tracking_unknown,
+)
 from ..critic_function import NAMESPACE, CriticFunction
 
 
@@ -22,8 +31,9 @@ class CostCritic(CriticFunction):
     the weights of Nav2's params mean the same. When every rollout collides, the
     iteration fails (the controller soft-resets and retries, then gives up).
 
-    `consider_footprint`: btnav checks a circular robot at its centre only; see
-    `critic_data.in_collision`.
+    `consider_footprint` (a robot with a `footprint` polygon): where a point's cost
+    reaches the circumscribed cost, the footprint's outline is checked instead and only
+    a lethal cell under it is a collision; scoring still reads the centre's cost.
     """
 
     class Params(CriticFunction.Params):
@@ -34,8 +44,8 @@ class CostCritic(CriticFunction):
         critical_cost: float = Field(300.0, ge=0.0)
         near_goal_distance: float = Field(0.5, ge=0.0)
         trajectory_point_step: int = Field(2, ge=1)
-        inflation_layer_name: str = ignored(
-            "", "btnav's CostCritic reads the costmap's final costs, not a named layer"
+        inflation_layer_name: str = Field(
+            "", description="the inflation layer giving the circumscribed cost; empty: the first"
         )
         # Nav2 Humble keys of the CostCritic, no longer read by Nav2 either.
         inflation_radius: float = ignored(
@@ -46,6 +56,10 @@ class CostCritic(CriticFunction):
         )
         trajectory_visualization: bool = ignored(False, Why.VIZ)
 
+    def configure(self, costmap_ros: Any) -> None:
+        super().configure(costmap_ros)
+        check_footprint_setting(costmap_ros, self.name, self.params.consider_footprint)
+
     def score(self, data: CriticData) -> None:
         if not self.enabled:
             return
@@ -53,10 +67,16 @@ class CostCritic(CriticFunction):
         step = p.trajectory_point_step
         xs, ys = data.x[:, ::step], data.y[:, ::step]
         costs = cell_costs(data.costmap, xs, ys)
+        footprint = p.consider_footprint and self.costmap_ros is not None
+        checked = costs
+        if footprint:
+            # Nav2 skips free points before it looks at the footprint
+            checked, _ = footprint_checked(
+                self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
+                p.inflation_layer_name, skip_free=True,
+            )  # fmt: skip
         collide_pt = in_collision(
-            costs,
-            consider_footprint=p.consider_footprint,
-            tracking_unknown=tracking_unknown(data.costmap),
+            checked, consider_footprint=footprint, tracking_unknown=tracking_unknown(data.costmap)
         )
         collide = collide_pt.any(axis=1)
         near_goal = data.local_path_length() < p.near_goal_distance

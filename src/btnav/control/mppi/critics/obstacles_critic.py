@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
@@ -9,7 +11,14 @@ from pydantic import Field
 from ....core import fmath
 from ....params.schema import ignored
 from ....plugins import register
-from ..critic_data import CriticData, cell_costs, in_collision, tracking_unknown
+from ..critic_data import (
+    CriticData,
+    cell_costs,
+    check_footprint_setting,
+    footprint_checked,
+    in_collision,
+    tracking_unknown,
+)
 from ..critic_function import NAMESPACE, CriticFunction
 
 
@@ -24,11 +33,14 @@ class ObstaclesCritic(CriticFunction):
     the batch's smallest. A rollout stops being scored at its first collision and costs
     `collision_cost` in place of its critical term. The whole is `(critical_weight *
     critical + repulsion_weight * repulsive) ** cost_power`: Nav2 reads no cost_weight here.
-    Circle only (see `critic_data.in_collision`).
+    With `consider_footprint` (a robot with a `footprint` polygon), a point whose cost
+    reaches the circumscribed cost is judged by its footprint's cost, whose clearance
+    adds the inscribed radius back.
 
-    The inflation parameters are this critic's own (`inflation_radius`,
-    `cost_scaling_factor`, `inscribed_radius`), as Nav2 Humble's: set them to your
-    inflation layer's (Nav2 now reads that layer).
+    The inflation parameters are those of the local costmap's inflation layer
+    (`inflation_layer_name`, or the first), as Nav2 reads them; Nav2 Humble's own keys
+    (`inflation_radius`, `cost_scaling_factor`, `inscribed_radius`), when given, win. A
+    costmap without an inflation layer leaves only collisions, as in Nav2.
     """
 
     class Params(CriticFunction.Params):
@@ -41,16 +53,40 @@ class ObstaclesCritic(CriticFunction):
         collision_cost: float = Field(100000.0, ge=0.0)
         collision_margin_distance: float = Field(0.10, ge=0.0)
         near_goal_distance: float = Field(0.5, ge=0.0)
+        inflation_layer_name: str = Field(
+            "", description="the inflation layer whose decay the costs invert; empty: the first"
+        )
+        # Nav2 Humble's keys (Nav2 now reads the inflation layer): when given, they win.
         inflation_radius: float = Field(0.55, gt=0.0)
         cost_scaling_factor: float = Field(10.0, gt=0.0)
         inscribed_radius: float = Field(0.22, ge=0.0, description="m: the robot's radius")
         trajectory_point_step: int = Field(1, ge=1)
-        inflation_layer_name: str = ignored("", "btnav reads the critic's own inflation keys")
 
-    def _clearances(self) -> NDArray[np.float32]:
+    def configure(self, costmap_ros: Any) -> None:
+        super().configure(costmap_ros)
+        check_footprint_setting(costmap_ros, self.name, self.params.consider_footprint)
+
+    def _inflation(self) -> tuple[float, float, float]:
+        """(cost_scaling_factor, inflation_radius, inscribed_radius) the costs were painted with."""
+        p = self.params
+        given = p.model_fields_set
+        k, radius, inscribed = p.cost_scaling_factor, p.inflation_radius, p.inscribed_radius
+        if self.costmap_ros is not None:
+            inscribed = self.costmap_ros.inscribed_radius
+            layer = self.costmap_ros.inflation_layer(p.inflation_layer_name)
+            k = layer.params.cost_scaling_factor if layer is not None else 0.0
+            radius = layer.params.inflation_radius if layer is not None else 0.0
+        if "cost_scaling_factor" in given:
+            k = p.cost_scaling_factor
+        if "inflation_radius" in given:
+            radius = p.inflation_radius
+        if "inscribed_radius" in given:
+            inscribed = p.inscribed_radius
+        return k, radius, inscribed
+
+    def _clearances(self, k: float) -> NDArray[np.float32]:
         """The clearance each cost value (0..255) stands for, computed once per parameters
         (a table lookup, and `fmath.log`: np.log's bits depend on the CPU)."""
-        k = self.params.cost_scaling_factor
         if getattr(self, "_table_key", None) != k:
             c = np.maximum(np.arange(256, dtype=np.float32), np.float32(1.0))
             self._table = (fmath.log(np.float32(253.0)) - fmath.log(c)) / np.float32(k)
@@ -62,23 +98,34 @@ class ObstaclesCritic(CriticFunction):
             return
         p = self.params
         step = p.trajectory_point_step
-        costs = cell_costs(data.costmap, data.x[:, ::step], data.y[:, ::step])
+        xs, ys = data.x[:, ::step], data.y[:, ::step]
+        costs = cell_costs(data.costmap, xs, ys)
+        footprint = p.consider_footprint and self.costmap_ros is not None
+        on_footprint = np.zeros(costs.shape, bool)
+        if footprint:
+            costs, on_footprint = footprint_checked(
+                self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
+                p.inflation_layer_name,
+            )  # fmt: skip
         collide_pt = in_collision(
-            costs,
-            consider_footprint=p.consider_footprint,
-            tracking_unknown=tracking_unknown(data.costmap),
+            costs, consider_footprint=footprint, tracking_unknown=tracking_unknown(data.costmap)
         )
+        collide = collide_pt.any(axis=1)
         # scored: the non-free points before a rollout's first collision
         scored = (costs > 0) & ~np.logical_or.accumulate(collide_pt, axis=1)
-        clearance = self._clearances()[costs]
-        margin = np.float32(p.collision_margin_distance)
+        k, inflation_radius, inscribed = self._inflation()
         zero = np.float32(0.0)
-        critical = np.where(scored & (clearance < margin), margin - clearance, zero).sum(axis=1)
+        critical = np.zeros(len(costs), np.float32)
         repulsive = np.zeros_like(critical)
-        if data.local_path_length() >= p.near_goal_distance:
-            repulsive = np.where(scored, np.float32(p.inflation_radius) - clearance, zero)
-            repulsive = repulsive.sum(axis=1)
-        collide = collide_pt.any(axis=1)
+        if k > 0.0 and inflation_radius > 0.0:  # else Nav2 cannot tell distances: collisions only
+            clearance = self._clearances(k)[costs]
+            clearance = np.where(on_footprint, clearance + np.float32(inscribed), clearance)
+            margin = np.float32(p.collision_margin_distance)
+            inside = scored & (clearance < margin)
+            critical = np.where(inside, margin - clearance, zero).sum(axis=1)
+            if data.local_path_length() >= p.near_goal_distance:
+                repulsive = np.where(scored, np.float32(inflation_radius) - clearance, zero)
+                repulsive = repulsive.sum(axis=1)
         raw = np.where(collide, np.float32(p.collision_cost), critical)
         normalised = (repulsive - repulsive.min()) / np.float32(costs.shape[1])
         term = np.float32(p.critical_weight) * raw + np.float32(p.repulsion_weight) * normalised
