@@ -107,7 +107,7 @@ def test_a_mistake_in_a_mission_is_one_line_and_exit_2(tmp_path):
         f"world: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\n"
         "task:\n  navigate_to_pose: [3, 2]\noutputs: [report, trajectry]\n"
     )
-    result = run_cli("run", str(mission), "--out", str(tmp_path / "out"))
+    result = run_cli("run", str(mission), "-o", str(tmp_path / "out"))  # -o as btnav slam spells it
     assert result.returncode == 2 and result.stdout == ""
     assert result.stderr.strip().count("\n") == 0 and "Traceback" not in result.stderr
     assert (

@@ -170,6 +170,7 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser("run", help="run a mission; exit 0 succeeded, 1 failed, 2 user error")
     run.add_argument("mission", help="the mission .yaml")
     run.add_argument(
+        "-o",
         "--out",
         help="the folder for report.json, trajectory.csv, bt_log.jsonl "
         "(default: out/<mission name>)",
@@ -188,7 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     batch.add_argument("missions", nargs="+", metavar="MISSION", help="mission .yaml files")
     batch.add_argument(
-        "--out", required=True, help="the folder for results.csv, the summary and runs/"
+        "-o", "--out", required=True, help="the folder for results.csv, the summary and runs/"
     )
     batch.add_argument(
         "--seeds",
