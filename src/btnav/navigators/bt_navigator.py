@@ -24,15 +24,13 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
 import py_trees
 from py_trees.common import Status
 from pydantic import Field
 
 from ..bt import load_tree
 from ..bt.bundled import find_tree
-from ..bt.nav2_context import RECOVERIES_KEY, recovery_count
-from ..core import fmath
+from ..bt.nav2_context import RECOVERIES_KEY
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
 from ..core.errors import PluginError
 from ..core.geometry import Pose2D
@@ -50,8 +48,11 @@ from ..nav.server_plugins import make_plugin
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.schema import ParamsModel, Why, ignored
 from ..plugins import names, register
+from .path_progress import PathProgress
 
 Blackboard = py_trees.blackboard.Blackboard
+#: py_trees' blackboard storage (one dict for the process, cleared in place, never rebound).
+_STORAGE: dict[str, Any] = Blackboard.storage
 
 
 def _pose(value: Any) -> Any:
@@ -61,7 +62,7 @@ def _pose(value: Any) -> Any:
 def blackboard_value(key: str, default: Any = None) -> Any:
     """The tree's blackboard entry `key` (py_trees' root namespace), or `default`."""
     if "." not in key and "/" not in key:  # a plain key: the storage itself (fed each tick)
-        return Blackboard.storage.get("/" + key, default)
+        return _STORAGE.get("/" + key, default)
     try:
         return Blackboard.get("/" + key)
     except KeyError:
@@ -105,13 +106,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         self.tree_file: str | None = None
         self.root: Any = None
         self.start_time = 0.0
-        self._closest = 0  # index of the path pose closest to the robot
-        self._path: Path | None = None
-        self._px: Any = None  # the x and y of `_path`, each contiguous
-        self._py: Any = None
-        self._seg: Any = None  # the segment lengths of `_path`
-        self._window_end: dict[int, int] = {}  # of `_path`, by closest pose
-        self._length_from: dict[int, float] = {}  # of `_path`, by closest pose
+        self.progress = PathProgress()  # distance_remaining along the blackboard's path
         self.ticks = 0
         self._cancel_deadline: float | None = None
 
@@ -168,8 +163,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
     def _begin_goal(self, handle: GoalHandle[Any], now: float) -> None:
         self.start_time = now
         self._cancel_deadline = None
-        self._closest = 0
-        self._path = None
+        self.progress.reset()
         _blackboard_set(RECOVERIES_KEY.strip("/"), 0)
         self._set_goal(handle.goal)
 
@@ -224,64 +218,34 @@ class BehaviorTreeNavigator(ActionServer[Any]):
 
     def _feedback(self, now: float) -> Any:
         rt = self.bt.runtime
+        params = self.bt.params
         try:
-            pose = rt.robot_pose(self.bt.params.global_frame, self.bt.params.robot_base_frame)
+            pose = rt.robot_pose(params.global_frame, params.robot_base_frame)
         except Exception:
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
         twist = rt.latest_odom.twist
         speed = math.hypot(twist.linear_x, twist.linear_y)
         eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
-        return self._make_feedback(
-            current_pose=pose,
-            navigation_time=now - self.start_time,
-            estimated_time_remaining=eta,
-            number_of_recoveries=recovery_count(),
-            distance_remaining=remaining,
-        )
+        # recovery_count(), and the message built positionally (every tick: no keywords)
+        recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)
+        return self._make_feedback(pose, now - self.start_time, eta, recoveries, remaining)
 
-    def _make_feedback(self, **kw: Any) -> Any:
-        return NavigateToPoseFeedback(**kw)
+    def _make_feedback(
+        self, pose: Pose2D, time: float, eta: float, recoveries: int, remaining: float
+    ) -> Any:
+        """The action's feedback message (NavigateThroughPoses adds the poses left)."""
+        return NavigateToPoseFeedback(pose, time, eta, recoveries, remaining)
 
     def _distance_remaining(self, pose: Pose2D) -> float:
-        path = blackboard_value("path")
+        path = _STORAGE.get("/path")  # blackboard_value("path"), without building the key
         if not isinstance(path, Path) or len(path) == 0:
-            goal = blackboard_value("goal")
+            goal = _STORAGE.get("/goal")
             goal = getattr(goal, "pose", goal)
             if goal is None or not hasattr(goal, "x"):
                 return 0.0
             return math.hypot(goal.x - pose.x, goal.y - pose.y)
-        if path is not self._path or self._seg is None:
-            # A new path: its segment lengths once (the tree ticks 100 times a second).
-            self._path, self._closest = path, 0
-            xy = path.poses[:, :2]
-            self._px, self._py = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
-            self._seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
-            self._window_end = {}
-            self._length_from = {}
-        seg = self._seg
-        # Nav2: the closest pose within search_window (along the path) of the last closest
-        # (the window and the length left depend only on the closest pose: kept per index)
-        start = self._closest
-        window_end = self._window_end.get(start)
-        if window_end is None:
-            window_end = start + 1
-            if len(seg):
-                along = np.cumsum(seg[start:])
-                window_end = start + 1 + int(np.searchsorted(along, self.search_window))
-            self._window_end[start] = window_end
-        stop = window_end + 1
-        dx = self._px[start:stop] - pose.x
-        dy = self._py[start:stop] - pose.y
-        dx *= dx
-        dy *= dy
-        dx += dy  # squared distances: the same nearest pose, no square roots
-        self._closest = closest = start + int(dx.argmin())
-        # nav2_util's calculate_path_length(path, closest_pose_idx)
-        remaining = self._length_from.get(closest)
-        if remaining is None:
-            remaining = self._length_from[closest] = float(seg[closest:].sum())
-        return remaining
+        return self.progress.remaining(path, pose.x, pose.y, self.search_window)
 
     @property
     def search_window(self) -> float:
@@ -320,9 +284,11 @@ class NavigateThroughPosesNavigator(BehaviorTreeNavigator):
         # Nav2 sets only `goals`; `goal` is the last pose, for nodes that read it.
         _blackboard_set("goal", poses[-1])
 
-    def _make_feedback(self, **kw: Any) -> Any:
-        goals = blackboard_value("goals") or []
-        return NavigateThroughPosesFeedback(**kw, number_of_poses_remaining=len(goals))
+    def _make_feedback(
+        self, pose: Pose2D, time: float, eta: float, recoveries: int, remaining: float
+    ) -> Any:
+        goals = _STORAGE.get("/goals") or []
+        return NavigateThroughPosesFeedback(pose, time, eta, recoveries, remaining, len(goals))
 
 
 class BtNavigator:
