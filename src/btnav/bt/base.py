@@ -122,6 +122,8 @@ class _BtNode(BoundPortsMixin):
     _INITIALISES: ClassVar[bool] = False
     _TERMINATES: ClassVar[bool] = False
     _OWN_STOP: ClassVar[bool] = False
+    #: None of the three above: a tick that changes no status calls nothing but the node's own.
+    _HOOKLESS: ClassVar[bool] = True
     clock: Any = None
     #: Called as `status_listener(node, old, new)` on every change of this node's status,
     #: even one undone within the same tick (a tick log sets it; None: nobody listens).
@@ -135,6 +137,7 @@ class _BtNode(BoundPortsMixin):
         cls._INITIALISES = cls.initialise is not Behaviour.initialise
         cls._TERMINATES = cls.terminate is not Behaviour.terminate
         cls._OWN_STOP = cls.stop is not _BtNode.stop
+        cls._HOOKLESS = not (cls._INITIALISES or cls._TERMINATES or cls._OWN_STOP)
         for hook in ("tick_children", "tick_decorated"):
             if inspect.isgeneratorfunction(cls.__dict__.get(hook)):
                 raise TypeError(

@@ -28,6 +28,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar
 
+from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
@@ -35,20 +36,19 @@ from ..core.error_codes import NavErrorCode, NavResult, error_codes
 from ..core.errors import UnknownNameError
 from ..core.messages import Path
 from ..core.nav2_msgs import (
-    BackUpGoal,
     ComputePathThroughPosesGoal,
     ComputePathToPoseGoal,
-    DriveOnHeadingGoal,
     FollowPathGoal,
     SmoothPathGoal,
-    SpinGoal,
-    WaitGoal,
 )
 from ..core.suggest import best_match
 from ..nav.actions import GoalHandle, GoalStatus
 from ..plugins import register
 from .base import F, R, S, input_port, output_port
 from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_count, same_path
+
+_STORAGE: dict[str, Any] = Blackboard.storage
+_UNSET = object()
 
 #: Every BtActionNode's ports (Nav2's `providedBasicPorts`).
 BASIC_INPUTS: dict[str, PortInformation] = {
@@ -150,7 +150,7 @@ class BtActionNode(Nav2Leaf):
     # -- the tick -----------------------------------------------------------------------
 
     def update(self) -> Status:
-        if self.status != R:  # a new run: goal from the ports, then send it
+        if self.status is not R:  # a new run: goal from the ports, then send it
             self.handle = None
             problem = self.client_problem()
             if problem is not None:  # Nav2 would not have built the node
@@ -357,6 +357,33 @@ class FollowPath(BtActionNode):
         **BASIC_OUTPUTS,
     }
     _IDS: ClassVar = ("controller_id", "goal_checker_id", "progress_checker_id")
+    #: The storage keys of `path` and the `_IDS` when all four are bound (else None), and
+    #: what they held when `goal` last matched them: (goal, path, ids...).
+    _watch_keys: tuple[str, ...] | None = None
+    _matched: tuple[Any, ...] | None = None
+
+    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
+        super().setup_ports(*args, **kwargs)
+        slots = [self.bound_inputs.get(k) for k in ("path", *self._IDS)]
+        self._watch_keys = None if None in slots else tuple(s.key for s in slots)  # type: ignore[union-attr]
+        self._matched = None
+
+    def _inputs_unchanged(self) -> bool:
+        """Whether the goal and the four ports' entries are the very objects the goal was
+        last found to match (paths and ids are never changed in place): then it still does."""
+        matched = self._matched
+        if matched is None or Blackboard.activity_stream is not None:
+            return False
+        goal, path, controller, goal_checker, progress_checker = matched
+        k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
+        get = _STORAGE.get
+        return (
+            goal is self.goal
+            and get(k_path, _UNSET) is path
+            and get(k_controller, _UNSET) is controller
+            and get(k_goal_checker, _UNSET) is goal_checker
+            and get(k_progress_checker, _UNSET) is progress_checker
+        )
 
     def make_goal(self) -> Any:
         path = self.optional("path")
@@ -367,6 +394,10 @@ class FollowPath(BtActionNode):
         )
 
     def on_wait_for_result(self, feedback: Any) -> None:
+        if self._inputs_unchanged():
+            if feedback is not None:
+                self._set_output("tracking_feedback", feedback)
+            return
         goal = self.goal
         changes: dict[str, Any] = {}
         new_path = self.optional("path")
@@ -380,6 +411,9 @@ class FollowPath(BtActionNode):
             # a new goal object: the running goal keeps what it was sent
             self.goal = dataclasses.replace(goal, **changes)
             self.goal_updated = True
+        elif self._watch_keys is not None and Blackboard.activity_stream is None:
+            get = _STORAGE.get
+            self._matched = (goal, *(get(k, _UNSET) for k in self._watch_keys))
         if feedback is not None:
             self._set_output("tracking_feedback", feedback)
 
@@ -439,100 +473,6 @@ class SmoothPath(BtActionNode):
         self._set_output("smoothing_duration", 0.0)  # smoothing takes no sim time
         self._set_output("was_completed", bool(smoothed.was_completed))
         return super().on_success(result)
-
-
-# -- behavior_server -----------------------------------------------------------------------
-
-
-@register("bt_node", "Spin")
-class Spin(BtActionNode):
-    """Turn in place by `spin_dist` radians (a recovery unless `is_recovery` is false)."""
-
-    ACTION = "Spin"
-    SERVER = "spin"
-    INPUT_PORTS: ClassVar = {
-        "spin_dist": input_port(float, "Spin distance (radians)", 1.57),
-        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "is_recovery": input_port(bool, "True if the action is being used as a recovery", True),
-        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
-        **BASIC_INPUTS,
-    }
-    OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
-
-    def make_goal(self) -> Any:
-        if self.get_input("is_recovery"):
-            increment_recovery_count()
-        return SpinGoal(
-            target_yaw=self.get_input("spin_dist"),
-            time_allowance=self.get_input("time_allowance"),
-            disable_collision_checks=self.get_input("disable_collision_checks"),
-        )
-
-
-@register("bt_node", "BackUp")
-class BackUp(BtActionNode):
-    """Drive backwards `backup_dist` metres at `backup_speed` (a recovery)."""
-
-    ACTION = "BackUp"
-    SERVER = "backup"
-    IS_RECOVERY = True
-    INPUT_PORTS: ClassVar = {
-        "backup_dist": input_port(float, "Total distance to back up (m)", 0.15),
-        "backup_speed": input_port(float, "Backup speed (m/s)", 0.025),
-        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
-        **BASIC_INPUTS,
-    }
-    OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
-
-    def make_goal(self) -> Any:
-        return BackUpGoal(
-            target=self.get_input("backup_dist"),
-            speed=self.get_input("backup_speed"),
-            time_allowance=self.get_input("time_allowance"),
-            disable_collision_checks=self.get_input("disable_collision_checks"),
-        )
-
-
-@register("bt_node", "DriveOnHeading")
-class DriveOnHeading(BtActionNode):
-    """Drive straight `dist_to_travel` metres at `speed` (not counted as a recovery)."""
-
-    ACTION = "DriveOnHeading"
-    SERVER = "drive_on_heading"
-    INPUT_PORTS: ClassVar = {
-        "dist_to_travel": input_port(float, "Distance to travel (m)", 0.15),
-        "speed": input_port(float, "Speed at which to travel (m/s)", 0.025),
-        "time_allowance": input_port(float, "Time allowed before the behaviour fails (s)", 10.0),
-        "disable_collision_checks": input_port(bool, "Disable collision checking", False),
-        **BASIC_INPUTS,
-    }
-    OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
-
-    def make_goal(self) -> Any:
-        return DriveOnHeadingGoal(
-            target=self.get_input("dist_to_travel"),
-            speed=self.get_input("speed"),
-            time_allowance=self.get_input("time_allowance"),
-            disable_collision_checks=self.get_input("disable_collision_checks"),
-        )
-
-
-@register("bt_node", "Wait")
-class Wait(BtActionNode):
-    """Wait `wait_duration` seconds of sim time (a recovery; a negative time counts as positive)."""
-
-    ACTION = "Wait"
-    SERVER = "wait"
-    IS_RECOVERY = True
-    INPUT_PORTS: ClassVar = {
-        "wait_duration": input_port(float, "Wait time (s)", 1.0),
-        **BASIC_INPUTS,
-    }
-    OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
-
-    def make_goal(self) -> Any:
-        return WaitGoal(time=abs(self.get_input("wait_duration")))
 
 
 # -- cancel nodes (Nav2's BtCancelActionNode) ----------------------------------------------

@@ -27,15 +27,22 @@ class PipelineSequence(ControlNode, _PtSequence):
         self.last_child_ticked = 0
 
     def tick_children(self) -> Status:
-        for i, child in enumerate(self.children):
-            self.current_child = child
+        # (current_child is set once the tick ends: no child of a btnav tree reads it)
+        children = self.children
+        last = self.last_child_ticked
+        for i, child in enumerate(children):
             status = child.execute_tick()
-            if status is F:
+            if status is R:
+                if i >= last:
+                    self.current_child = child
+                    self.last_child_ticked = i
+                    return R
+            elif status is F:
+                self.current_child = child
                 self.halt_self()
                 return F
-            if status is R and i >= self.last_child_ticked:
-                self.last_child_ticked = i
-                return R
+        if children:
+            self.current_child = children[-1]
         self.halt_self()
         return S
 

@@ -41,15 +41,15 @@ class RateController(DecoratorNode):
         self.first_time = False
 
     def tick_decorated(self) -> Status:
-        if self.status == Status.INVALID:  # a new run (BT.CPP: status not active)
+        if self.status is Status.INVALID:  # a new run (BT.CPP: status not active)
             self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
             self.first_time = True
         elapsed = self.now() - self.start
-        if self.first_time or self.decorated.status == R or elapsed + TIME_EPS >= self.period:
+        if self.first_time or self.decorated.status is R or elapsed + TIME_EPS >= self.period:
             self.first_time = False
             status = self.tick_child()
-            if status == S:
+            if status is S:
                 self.start = self.now()
             return status
         return R

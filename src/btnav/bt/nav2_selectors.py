@@ -12,11 +12,17 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
+import py_trees.logging as _pt_logging
+from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..plugins import register
+from .base import S
 from .nav2_context import Nav2Leaf
+
+_STORAGE: dict[str, Any] = Blackboard.storage
+_INFO = _pt_logging.Level.INFO
 
 
 class _Selector(Nav2Leaf):
@@ -25,10 +31,43 @@ class _Selector(Nav2Leaf):
     #: The output port the selection is written to (`selected_<KIND>`).
     SELECTED: ClassVar[str] = ""
 
+    #: Whether a tick with the selection made may take the short way (`execute_tick`).
+    _STEADY: ClassVar[bool] = False
+    #: The storage key of the bound `selected_<KIND>` output (None: py_trees writes it).
+    _selected_key: str | None = None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls._STEADY = cls._HOOKLESS and cls.update is _Selector.update
+
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name=name, **kwargs)
         self.last_selected = ""
         self.topic: str | None = None
+
+    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
+        super().setup_ports(*args, **kwargs)
+        slot = self.bound_outputs.get(self.SELECTED)
+        self._selected_key = slot.key if slot is not None and slot.types == (str,) else None
+
+    def execute_tick(self) -> Status:
+        """Once a selection is made a tick of an active selector only writes it again (five
+        selectors tick 100 times a second): that write, straight to its bound key, where
+        the full tick would do nothing else (no hooks, no logging, no activity stream)."""
+        key = self._selected_key
+        selected = self.last_selected
+        if (
+            self.status is S
+            and key is not None
+            and selected
+            and isinstance(selected, str)
+            and self._STEADY
+            and Blackboard.activity_stream is None
+            and _pt_logging.level >= _INFO
+        ):
+            _STORAGE[key] = selected
+            return S
+        return super().execute_tick()
 
     @classmethod
     def ports_for(cls, kind: str, label: str) -> tuple[dict[str, Any], dict[str, Any]]:

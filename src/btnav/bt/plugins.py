@@ -5,6 +5,7 @@ from . import decorators as _decorators  # noqa: F401
 from . import explore_nodes as _explore_nodes  # noqa: F401
 from . import leaves as _leaves  # noqa: F401
 from . import nav2_actions as _nav2_actions  # noqa: F401
+from . import nav2_behavior_actions as _nav2_behavior_actions  # noqa: F401
 from . import nav2_conditions as _nav2_conditions  # noqa: F401
 from . import nav2_controls as _nav2_controls  # noqa: F401
 from . import nav2_decorators as _nav2_decorators  # noqa: F401
