@@ -10,11 +10,8 @@
   pulled towards a target translation and the initial heading. Minimised by damped
   Newton with the exact Hessian (Gauss-Newton, Ceres's method, oscillates on this
   curved surface: ~20 steps where Newton takes 2 or 3); 3 x 3 systems solved by hand.
-- `FastCorrelativeScanMatcher` (FastCorrelativeScanMatcher2D): the loop-closure search
-  over a wide window, exact, by branch and bound on a stack of max-pooled grids (level d
-  holds the maximum over a 2^d x 2^d block, an upper bound for all candidates it
-  covers). The bound starts at `min_score`, is raised by greedy dives from the best
-  coarse candidates, then every level's survivors are expanded together.
+
+The loop-closure search (FastCorrelativeScanMatcher2D) is `fast_correlative_matcher.py`.
 
 Candidates are scored as whole arrays (points x candidates, integer sums of grid
 values); trigonometry is `fmath`; no BLAS.
@@ -38,10 +35,6 @@ from .submaps import MAX_VALUE, MIN_PROBABILITY, Submap
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
 _SPAN = 1.0 - 2.0 * MIN_PROBABILITY  # probability spread of the cell values
-#: Lookups per batch in the branch and bound (bounds its temporaries to ~30 MB).
-_BATCH = 1 << 20
-#: Greedy dives that seed the branch and bound's bound.
-_DIVES = 4
 
 
 # -- point clouds -----------------------------------------------------------------------
@@ -281,108 +274,3 @@ def _solve3(m: F64, b: F64) -> F64 | None:
     x1 = (y1 - l21 * x2) / l11
     x0 = (y0 - l10 * x1 - l20 * x2) / l00
     return np.array([x0, x1, x2])
-
-
-# -- global SLAM ---------------------------------------------------------------------------
-
-
-class FastCorrelativeScanMatcher:
-    """Branch and bound over a finished submap (see the module doc). Values are quantised to
-    0..255 over [0.1, 0.9], as Cartographer's precomputation grids."""
-
-    def __init__(self, submap: Submap, branch_and_bound_depth: int) -> None:
-        self.submap = submap
-        v = np.maximum(submap.values.astype(np.int64), 1) - 1
-        half = MAX_VALUE - 1  # round(v 255 / 32766), in integers
-        q = ((v * 510 + half) // (2 * half)).astype(np.uint8)
-        level = np.pad(q, 1)  # a border of 0 (probability 0.1): clipped lookups read it
-        self.row0, self.col0 = submap.row0 - 1, submap.col0 - 1
-        self.levels = [level]
-        for d in range(branch_and_bound_depth - 1):
-            w = 1 << d
-            p = np.pad(level, ((0, w), (0, w)))
-            level = np.maximum(
-                np.maximum(p[:-w, :-w], p[:-w, w:]), np.maximum(p[w:, :-w], p[w:, w:])
-            )
-            self.levels.append(level)
-
-    def _scores(self, depth: int, rows: I64, cols: I64, a: I64, dx: I64, dy: I64) -> F64:
-        """Scores of candidates (heading index a, cell offsets dx, dy) at one level."""
-        grid = self.levels[depth]
-        h, w = grid.shape
-        n = rows.shape[1]
-        out = np.empty(len(a))
-        step = max(1, _BATCH // max(n, 1))
-        for k in range(0, len(a), step):  # batches of candidates, each one array pass
-            s = slice(k, k + step)
-            r = np.clip(rows[a[s]] + dy[s, None] - self.row0, 0, h - 1)
-            c = np.clip(cols[a[s]] + dx[s, None] - self.col0, 0, w - 1)
-            out[s] = grid.reshape(-1)[r * w + c].sum(axis=1, dtype=np.int64)
-        return MIN_PROBABILITY + out / n * (_SPAN / 255.0)
-
-    def match(
-        self,
-        points: F64,
-        initial: F64,
-        linear_window: float,
-        angular_window: float,
-        min_score: float,
-    ) -> tuple[F64, float] | None:
-        """The best pose (local frame) within the windows around `initial` scoring above
-        `min_score`, with its score; None if there is none."""
-        if len(points) == 0:
-            return None
-        res = self.submap.lattice.resolution
-        angles = _headings(float(initial[2]), angular_window, angular_step(points, res))
-        rows, cols = _point_cells(self.submap, points, initial[:2], angles)
-        n = math.ceil(linear_window / res)
-        top = len(self.levels) - 1
-        width = 1 << top
-        offs = np.arange(-n, n + 1, width)
-        a, dy, dx = (
-            g.ravel() for g in np.meshgrid(np.arange(len(angles)), offs, offs, indexing="ij")
-        )
-        score = self._scores(top, rows, cols, a, dx, dy)
-        best, best_score = None, min_score
-        for k in np.argsort(-score, kind="stable")[:_DIVES]:  # greedy dives: a first bound
-            leaf = self._dive(rows, cols, n, top, int(a[k]), int(dx[k]), int(dy[k]))
-            if leaf[3] > best_score:
-                best, best_score = leaf, leaf[3]
-        keep = score > best_score
-        a, dx, dy = a[keep], dx[keep], dy[keep]
-        for depth in range(top, 0, -1):
-            a, dx, dy = _children(a, dx, dy, 1 << (depth - 1), n)
-            score = self._scores(depth - 1, rows, cols, a, dx, dy)
-            keep = score > best_score
-            a, dx, dy, score = a[keep], dx[keep], dy[keep], score[keep]
-        if len(score):
-            k = int(np.argmax(score))
-            best, best_score = (int(a[k]), int(dx[k]), int(dy[k]), float(score[k])), float(score[k])
-        if best is None:
-            return None
-        pose = np.array([initial[0] + best[1] * res, initial[1] + best[2] * res, angles[best[0]]])
-        return pose, best_score
-
-    def _dive(
-        self, rows: I64, cols: I64, n: int, top: int, a: int, dx: int, dy: int
-    ) -> tuple[int, int, int, float]:
-        """Follow the best child down to a full-resolution candidate."""
-        ca, cx, cy = np.array([a]), np.array([dx]), np.array([dy])
-        score = np.zeros(1)
-        for depth in range(top, 0, -1):
-            ca, cx, cy = _children(ca, cx, cy, 1 << (depth - 1), n)
-            score = self._scores(depth - 1, rows, cols, ca, cx, cy)
-            k = int(np.argmax(score))
-            ca, cx, cy, score = ca[k : k + 1], cx[k : k + 1], cy[k : k + 1], score[k : k + 1]
-        if top == 0:
-            score = self._scores(0, rows, cols, ca, cx, cy)
-        return int(ca[0]), int(cx[0]), int(cy[0]), float(score[0])
-
-
-def _children(a: I64, dx: I64, dy: I64, half: int, n: int) -> tuple[I64, I64, I64]:
-    """The four sub-blocks of each candidate block, those starting inside the window."""
-    ca = np.repeat(a, 4)
-    cx = np.repeat(dx, 4) + np.tile([0, half, 0, half], len(dx))
-    cy = np.repeat(dy, 4) + np.tile([0, 0, half, half], len(dy))
-    ok = (cx <= n) & (cy <= n)
-    return ca[ok], cx[ok], cy[ok]

@@ -46,7 +46,6 @@ from ..maps.occupancy_grid import OccupancyGrid
 from ..plugins import register
 from .cartographer_config import load_cartographer_config
 from .cartographer_matchers import (
-    FastCorrelativeScanMatcher,
     adaptive_voxel_filter,
     ceres_match,
     real_time_correlative_match,
@@ -54,6 +53,7 @@ from .cartographer_matchers import (
 )
 from .cartographer_options import CartographerConfig, TrajectoryBuilder2D
 from .cartographer_options import PoseGraph as PoseGraphOptions
+from .fast_correlative_matcher import FastCorrelativeScanMatcher
 from .pose_graph import PoseGraph
 from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 
