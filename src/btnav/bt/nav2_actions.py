@@ -49,6 +49,7 @@ from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_cou
 
 _STORAGE: dict[str, Any] = Blackboard.storage
 _UNSET = object()
+_EXECUTING = GoalStatus.EXECUTING
 
 #: Every BtActionNode's ports (Nav2's `providedBasicPorts`).
 BASIC_INPUTS: dict[str, PortInformation] = {
@@ -168,14 +169,18 @@ class BtActionNode(Nav2Leaf):
         handle = self.handle
         if handle is None:
             return F
-        if handle.active:
+        # handle.active, without its two properties while the server executes the goal
+        if (handle.status is _EXECUTING and handle.accepted) or handle.active:
             feedback = None
             if handle.feedback is not None and handle.feedback_stamp != self._feedback_stamp:
                 feedback = handle.feedback
                 self._feedback_stamp = handle.feedback_stamp
             self.on_wait_for_result(feedback)
-            still_running = handle.status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING)
-            if self.goal_updated and still_running and not self.send_new_goal():
+            if (
+                self.goal_updated
+                and handle.status in (GoalStatus.ACCEPTED, _EXECUTING)
+                and not self.send_new_goal()
+            ):
                 return F
             return R
         self.handle = None

@@ -65,16 +65,17 @@ class RecoveryNode(ControlNode, _PtSelector):
         self.retry_count = 0
 
     def tick_children(self) -> Status:
-        if len(self.children) != 2:
+        children = self.children
+        if len(children) != 2:
             raise TreeError(f"RecoveryNode '{self.name}' must only have 2 children")
         retries = self.get_input("number_of_retries")
-        while self.current_child_idx < 2 and self.retry_count <= retries:
-            child = self.children[self.current_child_idx]
+        while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
+            child = children[index]
             self.current_child = child
             status = child.execute_tick()
             if status is R:
                 return R
-            if self.current_child_idx == 0:
+            if index == 0:
                 if status is S:
                     self.halt_self()
                     if is_skipped(child):

@@ -33,7 +33,8 @@ class _Selector(Nav2Leaf):
 
     #: Whether a tick with the selection made may take the short way (`execute_tick`).
     _STEADY: ClassVar[bool] = False
-    #: The storage key of the bound `selected_<KIND>` output (None: py_trees writes it).
+    #: The storage key of the bound `selected_<KIND>` output where a tick may take the
+    #: short way (None: the full tick, py_trees writing it when the binding cannot).
     _selected_key: str | None = None
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -48,25 +49,24 @@ class _Selector(Nav2Leaf):
     def setup_ports(self, *args: Any, **kwargs: Any) -> None:
         super().setup_ports(*args, **kwargs)
         slot = self.bound_outputs.get(self.SELECTED)
-        self._selected_key = slot.key if slot is not None and slot.types == (str,) else None
+        steady = self._STEADY and slot is not None and slot.types == (str,)
+        self._selected_key = slot.key if steady else None  # type: ignore[union-attr]
 
     def execute_tick(self) -> Status:
         """Once a selection is made a tick of an active selector only writes it again (five
         selectors tick 100 times a second): that write, straight to its bound key, where
         the full tick would do nothing else (no hooks, no logging, no activity stream)."""
         key = self._selected_key
-        selected = self.last_selected
         if (
-            self.status is S
-            and key is not None
-            and selected
-            and isinstance(selected, str)
-            and self._STEADY
+            key is not None
+            and self.status is S
             and Blackboard.activity_stream is None
             and _pt_logging.level >= _INFO
         ):
-            _STORAGE[key] = selected
-            return S
+            selected = self.last_selected
+            if selected and isinstance(selected, str):
+                _STORAGE[key] = selected
+                return S
         return super().execute_tick()
 
     @classmethod

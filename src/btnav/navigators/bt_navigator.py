@@ -106,7 +106,8 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         self.tree_file: str | None = None
         self.root: Any = None
         self.start_time = 0.0
-        self.progress = PathProgress()  # distance_remaining along the blackboard's path
+        # distance_remaining along the blackboard's path (the window read when it is used)
+        self.progress = PathProgress(lambda: self.search_window)
         self.ticks = 0
         self._cancel_deadline: float | None = None
 
@@ -181,14 +182,16 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         return self.execute(new, now)
 
     def execute(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
-        self.root.tick_once()
+        root = self.root
+        root.tick_once()
         self.ticks += 1
-        self.bt.notify(self, now)
-        status = self.root.status
+        if self.bt.tick_listeners:
+            self.bt.notify(self, now)
+        status = root.status
         handle.publish_feedback(self._feedback(now), now)
-        if status == Status.RUNNING:
+        if status is Status.RUNNING:
             return None
-        if status == Status.SUCCESS:
+        if status is Status.SUCCESS:
             return NavResult.success()
         return self._failure()
 
@@ -239,13 +242,16 @@ class BehaviorTreeNavigator(ActionServer[Any]):
 
     def _distance_remaining(self, pose: Pose2D) -> float:
         path = _STORAGE.get("/path")  # blackboard_value("path"), without building the key
-        if not isinstance(path, Path) or len(path) == 0:
+        progress = self.progress
+        if (path is None or path is not progress.path) and (
+            not isinstance(path, Path) or len(path) == 0
+        ):  # (the path of the latest search is a Path with poses)
             goal = _STORAGE.get("/goal")
             goal = getattr(goal, "pose", goal)
             if goal is None or not hasattr(goal, "x"):
                 return 0.0
             return math.hypot(goal.x - pose.x, goal.y - pose.y)
-        return self.progress.remaining(path, pose.x, pose.y, self.search_window)
+        return progress.remaining(path, pose.x, pose.y)
 
     @property
     def search_window(self) -> float:

@@ -19,13 +19,16 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left
-from itertools import accumulate
+from collections.abc import Callable
+from itertools import accumulate, islice
 from typing import Any
 
 import numpy as np
 
 from ..core import fmath
 from ..core.messages import Path
+
+_add_reduce = np.add.reduce
 
 #: Relative slack on the distance bound: far above float64 rounding (1e-16), far below
 #: any distance a path resolves, so a jump never passes a pose that could be closest.
@@ -35,18 +38,22 @@ _SLACK = 1e-9
 class PathProgress:
     """The closest pose and the length left along one path at a time (Nav2's feedback)."""
 
-    def __init__(self) -> None:
-        self.path: Path | None = None
+    def __init__(self, search_window: Callable[[], float]) -> None:
+        #: Nav2's `search_window` (m along the path), read each time a window is computed.
+        self.search_window = search_window
+        self.path: Path | None = None  # the path of the latest search (never an empty one)
         self.closest = 0  # index of the path pose closest to the robot
+        self._n = 0  # the path's poses
         self._xs: list[float] = []  # the path's x and y, as Python floats
         self._ys: list[float] = []
-        self._arc: list[float] = []  # length along the path to each pose
         self._seg: Any = None  # the segment lengths (numpy), as Nav2 sums them
+        self._segs: list[float] = []  # the same, as Python floats
+        self._arc: list[float] = []  # length along the path to each pose
         self._slack = 0.0  # the distance bound's absolute margin for this path
         self._exact = False  # float64 and finite: the pruned scan applies
         self._px: Any = None  # the path's x and y (numpy), for the full scan
         self._py: Any = None
-        self._window_end: dict[int, int] = {}  # by closest pose
+        self._stop: dict[int, int] = {}  # one past the search window's last pose, by start
         self._length_from: dict[int, float] = {}  # by closest pose
         # the last search, (start, x, y) -> closest: odometry comes at half the tree's rate
         self._last: tuple[int, float, float, int] = (-1, math.nan, math.nan, 0)
@@ -60,47 +67,65 @@ class PathProgress:
         """Everything that depends only on `path`, once per path."""
         self.path, self.closest = path, 0
         xy = path.poses[:, :2]
+        self._n = len(xy)
         self._px, self._py = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
         self._seg = seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
-        self._window_end = {}
+        self._stop = {}
         self._length_from = {}
         self._last = (-1, math.nan, math.nan, 0)
         self._exact = xy.dtype == np.float64 and bool(np.isfinite(xy).all())
         if self._exact:
             self._xs, self._ys = self._px.tolist(), self._py.tolist()
-            self._arc = [0.0, *accumulate(seg.tolist())]
+            self._segs = seg.tolist()
+            self._arc = [0.0, *accumulate(self._segs)]
             scale = self._arc[-1] + float(np.abs(xy).max())
             self._exact = math.isfinite(scale)
             self._slack = _SLACK * (1.0 + scale)
 
-    def remaining(self, path: Path, x: float, y: float, search_window: float) -> float:
-        """The length of `path` left from its pose closest to the robot at (x, y)."""
-        if path is not self.path or self._seg is None:
+    def remaining(self, path: Path, x: float, y: float) -> float:
+        """The length of `path` (not empty) left from its pose closest to the robot at (x, y)."""
+        if path is not self.path:
             self._take(path)
-        seg = self._seg
         start = self.closest
         last = self._last
         if last[0] == start and last[1] == x and last[2] == y:  # the same search again
-            self.closest = closest = last[3]
-            return self._length_from[closest]
-        window_end = self._window_end.get(start)
-        if window_end is None:
-            window_end = start + 1
-            if len(seg):
-                along = np.cumsum(seg[start:])
-                window_end = start + 1 + int(np.searchsorted(along, search_window))
-            self._window_end[start] = window_end
-        stop = min(window_end + 1, len(self._px))
-        if self._exact and math.isfinite(x) and math.isfinite(y):
-            closest = self._scan(start, stop, x, y)
+            closest = last[3]
         else:
-            closest = self._full_scan(start, stop, x, y)
+            stop = self._stop.get(start)
+            if stop is None:
+                end = self._window(start, self.search_window())
+                stop = self._stop[start] = min(end + 1, self._n)
+            if self._exact and math.isfinite(x) and math.isfinite(y):
+                closest = self._scan(start, stop, x, y)
+            else:
+                closest = self._full_scan(start, stop, x, y)
+            self._last = (start, x, y, closest)
         self.closest = closest
-        self._last = (start, x, y, closest)
         remaining = self._length_from.get(closest)
-        if remaining is None:
-            remaining = self._length_from[closest] = float(seg[closest:].sum())
+        if remaining is None:  # float(seg[closest:].sum()), without sum's Python wrapper
+            remaining = self._length_from[closest] = float(_add_reduce(self._seg[closest:]))
         return remaining
+
+    def _window(self, start: int, search_window: float) -> int:
+        """The last pose within `search_window` along the path from `start`, as Nav2's
+        `searchsorted(cumsum(seg[start:]), search_window)` finds it: from the running sums
+        kept per path where they leave no doubt, else from cumsum's own sequential sums."""
+        if not len(self._seg):
+            return start + 1
+        if self._exact and math.isfinite(search_window):
+            arc, slack = self._arc, self._slack
+            origin = arc[start] + search_window
+            # arc[k] - arc[start] and cumsum's sum up to k differ by less than the slack
+            lo = bisect_left(arc, origin - slack, start + 1)
+            hi = bisect_left(arc, origin + slack, start + 1)
+            if lo == hi:
+                return lo
+            # a tie within rounding (a path on a grid, a window a multiple of its step):
+            # cumsum adds in order, as accumulate does on Python floats
+            along = list(accumulate(islice(self._segs, start, hi)))
+            return start + 1 + bisect_left(along, search_window)
+        along = np.cumsum(self._seg[start:])
+        return start + 1 + int(np.searchsorted(along, search_window))
 
     def _full_scan(self, start: int, stop: int, x: float, y: float) -> int:
         """numpy's argmin over the window's squared distances (NaNs as numpy treats them)."""
@@ -115,11 +140,12 @@ class PathProgress:
         """`_full_scan`'s index, jumping over poses the triangle inequality rules out."""
         xs, ys, arc = self._xs, self._ys, self._arc
         slack = self._slack + _SLACK * (abs(x) + abs(y))
+        sqrt = math.sqrt
         dx = xs[start] - x
         dy = ys[start] - y
         best_sq = dx * dx + dy * dy
         best = start
-        reach = math.sqrt(best_sq) + slack  # no pose nearer than this is ruled out
+        reach = sqrt(best_sq) + slack  # no pose nearer than this is ruled out
         i = start + 1
         while i < stop:
             dx = xs[i] - x
@@ -127,10 +153,10 @@ class PathProgress:
             sq = dx * dx + dy * dy
             if sq < best_sq:
                 best_sq, best = sq, i
-                reach = math.sqrt(sq) + slack
+                reach = sqrt(sq) + slack
                 i += 1
                 continue
             # every pose k > i is at least sqrt(sq) - (arc[k] - arc[i]) from the robot
-            gap = math.sqrt(sq) - reach
+            gap = sqrt(sq) - reach
             i = bisect_left(arc, arc[i] + gap, i + 1, stop) if gap > 0.0 else i + 1
         return best
