@@ -220,33 +220,34 @@ class CartographerMapper:
             if a != n:
                 rel = relative(self.scans[a].local_pose, node.local_pose)
                 self.graph.add_edge(a, n, rel, information=_information(o.matcher_translation_weight, o.matcher_rotation_weight))  # fmt: skip
-        for index in sorted(self.matchers):
-            if index not in node.submaps:
-                self._maybe_add_constraint(n, index)
+        finished = [i for i in sorted(self.matchers) if i not in node.submaps]
+        if finished:  # the node against every finished submap near it: one array pass
+            anchors = self.graph.poses[[self.anchors[i] for i in finished]]
+            rel = relative_arrays(anchors, np.broadcast_to(self.graph.poses[n], anchors.shape))
+            for k in self._within(rel):
+                self._maybe_add_constraint(n, finished[k], rel[k])
         if ins.finished is not None:
             index = ins.finished.index
             self.matchers[index] = FastCorrelativeScanMatcher(ins.finished, o.constraint_builder.fast_correlative_scan_matcher.branch_and_bound_depth)  # fmt: skip
             inside = set(ins.finished.node_ids)
-            for m in self._near(index):
+            rel = relative_arrays(self.submap_pose(index)[None, :], self.graph.poses)
+            for m in self._within(rel):
                 if m not in inside:
-                    self._maybe_add_constraint(m, index)
+                    self._maybe_add_constraint(m, index, rel[m])
         self.since_optimization += 1
         if o.optimize_every_n_nodes > 0 and self.since_optimization >= o.optimize_every_n_nodes:
             self.optimize()
         return n
 
-    def _near(self, index: int) -> list[int]:
-        """Nodes within max_constraint_distance of a submap (one array pass over nodes)."""
-        rel = relative_arrays(self.submap_pose(index)[None, :], self.graph.poses)
+    def _within(self, rel: F64) -> list[int]:
+        """Rows of node-in-submap poses within max_constraint_distance, in order."""
         d2 = rel[:, 0] ** 2 + rel[:, 1] ** 2
         return np.flatnonzero(d2 <= self.o.constraint_builder.max_constraint_distance**2).tolist()
 
-    def _maybe_add_constraint(self, n: int, index: int) -> None:
-        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for node n and a finished submap."""
+    def _maybe_add_constraint(self, n: int, index: int, rel: F64) -> None:
+        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for node n and a finished
+        submap, `rel` the node in the submap's frame (within max_constraint_distance)."""
         cb = self.o.constraint_builder
-        rel = relative(self.submap_pose(index), self.graph.poses[n])
-        if rel[0] ** 2 + rel[1] ** 2 > cb.max_constraint_distance**2:
-            return
         sampler = self.samplers.setdefault(index, [0, 0])
         sampler[0] += 1
         if sampler[1] / sampler[0] >= cb.sampling_ratio:  # Cartographer's FixedRatioSampler

@@ -40,6 +40,8 @@ I32 = NDArray[np.int32]
 _LOOKUPS = 1 << 17
 #: Coarse candidates carried down by the beam dive that seeds the bound.
 _BEAM = 4
+#: A block's four sub-blocks, in Cartographer's order: steps added to (2 x, 2 y).
+_QUAD_X, _QUAD_Y = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
 
 
 class FastCorrelativeScanMatcher:
@@ -110,7 +112,7 @@ class _Search:
         self.m = matcher
         self.rows, self.cols, self.n = rows, cols, n
         self.num_points = rows.shape[1]
-        self.tables: dict[int, tuple[I32, I32]] = {}
+        self.tables: dict[int, tuple[I32, I32, int]] = {}
 
     def lattice(self, depth: int) -> int:
         """Lattice steps at a level: offsets -n, -n + 2^d, ... up to n."""
@@ -118,10 +120,9 @@ class _Search:
 
     def children(self, depth: int, a: I64, sx: I64, sy: I64) -> tuple[I64, I64, I64]:
         """The four sub-blocks of each candidate at `depth`, those inside the window."""
-        k = len(a)
         ca = np.repeat(a, 4)
-        cx = np.repeat(2 * sx, 4) + np.tile(np.array([0, 1, 0, 1]), k)
-        cy = np.repeat(2 * sy, 4) + np.tile(np.array([0, 0, 1, 1]), k)
+        cx = ((2 * sx)[:, None] + _QUAD_X).ravel()
+        cy = ((2 * sy)[:, None] + _QUAD_Y).ravel()
         last = self.lattice(depth - 1) - 1
         ok = (cx <= last) & (cy <= last)
         return ca[ok], cx[ok], cy[ok]
@@ -152,16 +153,18 @@ class _Search:
         for k in range(0, len(a), batch):
             s = slice(k, k + batch)
             if tables is not None:
-                idx = tables[0][a[s], sy[s]]
-                idx += tables[1][a[s], sx[s]]
+                row = a[s] * tables[2]
+                idx = np.take(tables[0], row + sy[s], axis=0)
+                idx += np.take(tables[1], row + sx[s], axis=0)
             else:
                 idx = self._indices(depth, a[s], sx[s], sy[s])
-            sums[s] = grid[idx].sum(axis=1, dtype=np.int32)
+            sums[s] = np.take(grid, idx).sum(axis=1, dtype=np.int32)
         return MIN_PROBABILITY + sums / self.num_points * (_SPAN / 255.0)
 
-    def _tables(self, depth: int) -> tuple[I32, I32]:
-        """(headings, lattice steps, points) row parts (times the grid's width) and column
-        parts of the flat indices at one level, clipped into the grid's zero border."""
+    def _tables(self, depth: int) -> tuple[I32, I32, int]:
+        """Row parts (times the grid's width) and column parts of the flat indices at one
+        level, clipped into the grid's zero border: (headings x lattice steps, points)
+        each, row heading * steps + step; and the steps."""
         h, w = self.m.levels[depth].shape
         offsets = (np.arange(self.lattice(depth), dtype=np.int32) << depth) - self.n
         r = self.rows[:, None, :] + (offsets - self.m.row0)[None, :, None]
@@ -169,7 +172,8 @@ class _Search:
         r *= w
         c = self.cols[:, None, :] + (offsets - self.m.col0)[None, :, None]
         np.clip(c, 0, w - 1, out=c)
-        return r, c
+        k = len(offsets)
+        return r.reshape(-1, self.num_points), c.reshape(-1, self.num_points), k
 
     def _indices(self, depth: int, a: I64, sx: I64, sy: I64) -> I32:
         """(candidates, points) flat indices, computed directly (few candidates)."""
