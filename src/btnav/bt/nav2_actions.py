@@ -373,23 +373,6 @@ class FollowPath(BtActionNode):
         self._watch_keys = None if None in slots else tuple(s.key for s in slots)  # type: ignore[union-attr]
         self._matched = None
 
-    def _inputs_unchanged(self) -> bool:
-        """Whether the goal and the four ports' entries are the very objects the goal was
-        last found to match (paths and ids are never changed in place): then it still does."""
-        matched = self._matched
-        if matched is None or Blackboard.activity_stream is not None:
-            return False
-        goal, path, controller, goal_checker, progress_checker = matched
-        k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
-        get = _STORAGE.get
-        return (
-            goal is self.goal
-            and get(k_path, _UNSET) is path
-            and get(k_controller, _UNSET) is controller
-            and get(k_goal_checker, _UNSET) is goal_checker
-            and get(k_progress_checker, _UNSET) is progress_checker
-        )
-
     def make_goal(self) -> Any:
         path = self.optional("path")
         self.path_handler_id = self.optional("path_handler_id") or ""
@@ -399,11 +382,22 @@ class FollowPath(BtActionNode):
         )
 
     def on_wait_for_result(self, feedback: Any) -> None:
-        if self._inputs_unchanged():
-            if feedback is not None:
-                self._set_output("tracking_feedback", feedback)
-            return
         goal = self.goal
+        matched = self._matched
+        if matched is not None and matched[0] is goal and Blackboard.activity_stream is None:
+            # The goal and the four ports' entries are the very objects the goal was last
+            # found to match (paths and ids are never changed in place): it still does.
+            get = _STORAGE.get
+            k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
+            if (
+                get(k_path, _UNSET) is matched[1]
+                and get(k_controller, _UNSET) is matched[2]
+                and get(k_goal_checker, _UNSET) is matched[3]
+                and get(k_progress_checker, _UNSET) is matched[4]
+            ):
+                if feedback is not None:
+                    self._set_output("tracking_feedback", feedback)
+                return
         changes: dict[str, Any] = {}
         new_path = self.optional("path")
         if new_path is not None and len(new_path) and not same_path(goal.path, new_path):

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import Any, ClassVar
 
+from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.composites import Selector as _PtSelector
 from py_trees.composites import Sequence as _PtSequence
@@ -12,6 +13,8 @@ from py_trees.ports import PortInformation
 from ..plugins import register
 from .base import ControlNode, F, R, S, is_skipped
 from .errors import TreeError
+
+_STORAGE: dict[str, Any] = Blackboard.storage
 
 
 @register("bt_node", "PipelineSequence")
@@ -32,6 +35,8 @@ class PipelineSequence(ControlNode, _PtSequence):
         last = self.last_child_ticked
         for i, child in enumerate(children):
             status = child.execute_tick()
+            if status is S:  # (most children, most ticks)
+                continue
             if status is R:
                 if i >= last:
                     self.current_child = child
@@ -60,6 +65,14 @@ class RecoveryNode(ControlNode, _PtSelector):
     }
     CHILDREN: ClassVar = (2, 2)
 
+    #: The storage key `number_of_retries` is bound to (None: not bound).
+    _retries_key: str | None = None
+
+    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
+        super().setup_ports(*args, **kwargs)
+        slot = self.bound_inputs.get("number_of_retries")
+        self._retries_key = slot.key if slot is not None else None
+
     def reset_state(self) -> None:
         self.current_child_idx = 0
         self.retry_count = 0
@@ -68,7 +81,11 @@ class RecoveryNode(ControlNode, _PtSelector):
         children = self.children
         if len(children) != 2:
             raise TreeError(f"RecoveryNode '{self.name}' must only have 2 children")
-        retries = self.get_input("number_of_retries")
+        # get_input("number_of_retries"), read straight from its key when that holds an int
+        key = self._retries_key
+        retries = _STORAGE.get(key) if key is not None else None
+        if type(retries) is not int or Blackboard.activity_stream is not None:
+            retries = self.get_input("number_of_retries")
         while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
             child = children[index]
             self.current_child = child

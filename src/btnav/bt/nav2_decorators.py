@@ -45,7 +45,8 @@ class RateController(DecoratorNode):
             self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
             self.first_time = True
-        elapsed = self.now() - self.start
+        clock = self.clock  # self.now(), inline: read every tick
+        elapsed = (float(clock.now) if clock is not None else self.now()) - self.start
         if self.first_time or self.decorated.status is R or elapsed + TIME_EPS >= self.period:
             self.first_time = False
             status = self.tick_child()
