@@ -98,6 +98,14 @@ class BehaviorTreeNavigator(ActionServer[Any]):
     goal_type: type = NavigateToPoseGoal
     feedback_type: type = NavigateToPoseFeedback
 
+    #: Whether the class keeps this class's `_make_feedback` (then the tick builds the
+    #: message positionally: it runs 100 times a second).
+    _PLAIN_FEEDBACK = True
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls._PLAIN_FEEDBACK = cls._make_feedback is BehaviorTreeNavigator._make_feedback
+
     def __init__(self, name: str, params: NavigatorParams | None = None) -> None:
         super().__init__(self.action_name, name)
         self.params = params if params is not None else self.Params()
@@ -230,15 +238,21 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         twist = rt.latest_odom.twist
         speed = math.hypot(twist.linear_x, twist.linear_y)
         eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
-        # recovery_count(), and the message built positionally (every tick: no keywords)
-        recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)
-        return self._make_feedback(pose, now - self.start_time, eta, recoveries, remaining)
+        recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)  # recovery_count()
+        time = now - self.start_time
+        if self._PLAIN_FEEDBACK:  # _make_feedback as it is here, without its keywords
+            return NavigateToPoseFeedback(pose, time, eta, recoveries, remaining)
+        return self._make_feedback(
+            current_pose=pose,
+            navigation_time=time,
+            estimated_time_remaining=eta,
+            number_of_recoveries=recoveries,
+            distance_remaining=remaining,
+        )
 
-    def _make_feedback(
-        self, pose: Pose2D, time: float, eta: float, recoveries: int, remaining: float
-    ) -> Any:
-        """The action's feedback message (NavigateThroughPoses adds the poses left)."""
-        return NavigateToPoseFeedback(pose, time, eta, recoveries, remaining)
+    def _make_feedback(self, **kw: Any) -> Any:
+        """The action's feedback message from NavigateToPose's fields (a navigator adds its own)."""
+        return NavigateToPoseFeedback(**kw)
 
     def _distance_remaining(self, pose: Pose2D) -> float:
         path = _STORAGE.get("/path")  # blackboard_value("path"), without building the key
@@ -290,11 +304,9 @@ class NavigateThroughPosesNavigator(BehaviorTreeNavigator):
         # Nav2 sets only `goals`; `goal` is the last pose, for nodes that read it.
         _blackboard_set("goal", poses[-1])
 
-    def _make_feedback(
-        self, pose: Pose2D, time: float, eta: float, recoveries: int, remaining: float
-    ) -> Any:
-        goals = _STORAGE.get("/goals") or []
-        return NavigateThroughPosesFeedback(pose, time, eta, recoveries, remaining, len(goals))
+    def _make_feedback(self, **kw: Any) -> Any:
+        goals = blackboard_value("goals") or []
+        return NavigateThroughPosesFeedback(**kw, number_of_poses_remaining=len(goals))
 
 
 class BtNavigator:
