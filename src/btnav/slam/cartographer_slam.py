@@ -54,7 +54,7 @@ from .cartographer_matchers import (
 from .cartographer_options import CartographerConfig, TrajectoryBuilder2D
 from .cartographer_options import PoseGraph as PoseGraphOptions
 from .fast_correlative_matcher import FastCorrelativeScanMatcher
-from .pose_graph import PoseGraph
+from .pose_graph import PoseGraph, optimize_poses, symbolic_factor
 from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 
 F64 = NDArray[np.float64]
@@ -274,14 +274,14 @@ class CartographerMapper:
             return
         arrays = self.graph.to_arrays()
         info = arrays["information"]
+        i, j, z = arrays["edge_i"], arrays["edge_j"], arrays["measurements"]
+        symbolic = symbolic_factor(self.graph.num_nodes, i, j)  # one pattern for every round
         loops = np.array(self.loop_edges, dtype=np.int64)
         for _ in range(_HUBER_ROUNDS if len(loops) else 1):
             weights = self._huber_weights(arrays, loops, opt.huber_scale)
             arrays["information"] = info.copy()
             arrays["information"][loops] *= weights[:, None, None]
-            graph = PoseGraph.from_arrays(arrays)
-            graph.optimize(fixed=0, max_iterations=iterations)
-            arrays["poses"] = graph.poses.copy()
+            arrays["poses"], _ = optimize_poses(arrays["poses"], i, j, z, arrays["information"], fixed=0, max_iterations=iterations, symbolic=symbolic)  # fmt: skip
         self.graph.set_poses(arrays["poses"])
         newest = self.submaps[max(self.anchors)]
         self.local_to_global = compose(self.submap_pose(newest.index), relative(newest.local_pose, np.zeros(3)))  # fmt: skip

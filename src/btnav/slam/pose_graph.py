@@ -138,6 +138,7 @@ def optimize_poses(
     max_iterations: int = 20,
     tolerance: float = 1e-6,
     linear_solver: LinearSolver = "cholesky",
+    symbolic: tuple[BlockPattern, BlockCholesky] | None = None,
 ) -> tuple[F64, SolveReport]:
     """Levenberg-Marquardt from `poses`; the new poses and a report.
 
@@ -147,6 +148,8 @@ def optimize_poses(
     it, or the error is rounding noise, or no damping finds a lower error.
     `linear_solver="superlu"` is scipy's LU: faster on large graphs, but its last bits
     depend on the CPU's BLAS kernels (see `graph_solver`), so not for a closed loop.
+    `symbolic`: `symbolic_factor(len(poses), i, j)` made earlier for these edges, for a
+    caller that solves one graph several times (reweighted rounds); the same result.
     """
     if linear_solver not in ("cholesky", "superlu"):
         raise ValueError(f"linear_solver must be 'cholesky' or 'superlu', not {linear_solver!r}")
@@ -155,8 +158,11 @@ def optimize_poses(
     negligible = NEGLIGIBLE_ERROR_PER_EDGE * max(i.size, 1)
     if err0 <= negligible:
         return x, SolveReport(0, err0, err0, True)
-    pattern = BlockPattern(x.shape[0], i, j)
-    chol = BlockCholesky(pattern) if linear_solver == "cholesky" else None
+    if symbolic is not None and linear_solver == "cholesky":
+        pattern, chol = symbolic
+    else:
+        pattern = BlockPattern(x.shape[0], i, j)
+        chol = BlockCholesky(pattern) if linear_solver == "cholesky" else None
     lam, err, iters, converged = LAMBDA_INITIAL, err0, 0, False
     r, a, b = jacobians(x, i, j, z)
     system = assemble(pattern, a, b, info, r, fixed)
@@ -189,6 +195,13 @@ def optimize_poses(
         else:
             lam = min(lam * LAMBDA_FACTOR, LAMBDA_MAX)
     return x, SolveReport(iters, err0, err, converged)
+
+
+def symbolic_factor(n: int, i: I64, j: I64) -> tuple[BlockPattern, BlockCholesky]:
+    """H's block pattern and its symbolic Cholesky for n poses and edges (i, j): fixed
+    while the edges are, so a graph solved again with other weights reuses them."""
+    pattern = BlockPattern(n, i, j)
+    return pattern, BlockCholesky(pattern)
 
 
 # -- the graph ----------------------------------------------------------------------
