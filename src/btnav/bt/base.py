@@ -10,7 +10,10 @@ Where py_trees ends and btnav begins:
   `BehaviourTree`.
 * **btnav ticks them**: a node's tick is one plain call, `execute_tick() -> Status`
   (BT.CPP's `executeTick`), with no generators on the way down; `status` is a plain
-  attribute; ports are bound to their blackboard keys when the tree is built.
+  attribute; ports are bound to their blackboard keys when the tree is built (the
+  nodes of every steady tick of Nav2's trees, the selectors, RecoveryNode and
+  FollowPath, read and write those keys themselves where that is exactly what
+  py_trees' `get_input`/`_set_output` would do, and call them otherwise).
   `tick_once()` is `execute_tick()`. py_trees' generator `tick()` still works (for
   `py_trees.trees.BehaviourTree` and its visitors): it runs the same plain tick, then
   yields the nodes it ticked in the order py_trees would.

@@ -13,8 +13,9 @@ replans); a goal naming another tree than the running one is rejected.
 
 Feedback, each tick: `current_pose` (the robot in `global_frame`), `distance_remaining`
 along the blackboard's `path` from the pose of it closest to the robot (within
-`search_window` metres along the path of the last closest pose), `navigation_time`
-(sim seconds since the goal), `estimated_time_remaining` and `number_of_recoveries`.
+`search_window` metres along the path of the last closest pose; `path_progress`),
+`navigation_time` (sim seconds since the goal), `estimated_time_remaining` and
+`number_of_recoveries`.
 The blackboard is py_trees' (process-wide), so one tree runs at a time, as in Nav2.
 """
 
