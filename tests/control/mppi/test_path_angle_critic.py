@@ -125,12 +125,6 @@ def test_weight_and_power():
     assert (scored(enabled=False).costs == 0).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_angle_critic.py:77-83 averages the heading error over every rollout "
-    "pose; Nav2 scores only the rollout's last pose (its heading against the direction "
-    "from its last point to the target)",
-)
 def test_only_the_last_pose_is_scored():
     turning = np.stack([np.zeros(T), np.zeros(T), np.linspace(0.0, TO_TARGET, T)], -1)
     data = scored(trajs=[turning])

@@ -104,12 +104,6 @@ def test_furthest_point_is_bounded_by_the_distance_travelled():
     assert data.costs == pytest.approx([5 * 0.3, 5 * np.hypot(0.5, 0.3)], abs=1e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="btnav path_follow_critic.py:33-34 moves a blocked target on up to the path's "
-    "last point; Nav2's loop (while idx < path_size - 1, path_size = points - 1) stops "
-    "at the second-to-last point without checking it",
-)
 def test_a_blocked_second_to_last_target_is_kept():
     path = straight_path(1.8, step=0.2)  # 10 points, 0.2 m apart
     cm = paint(costmap(), [(1.6, 0.0)], LETHAL_OBSTACLE)  # point 8, the second to last

@@ -26,9 +26,9 @@ def _angle_to(pose: np.ndarray, x: float, y: float) -> float:
 
 @register("critic", NAMESPACE + "PathAngleCritic")
 class PathAngleCritic(CriticFunction):
-    """Mean angle between each rollout pose's heading and the direction to a path point
-    `offset_from_furthest` past the furthest reached, applied when the robot's own angle
-    to that point exceeds `max_angle_to_furthest`.
+    """The angle between each rollout's last heading and the direction from its last point
+    to a path point `offset_from_furthest` past the furthest reached, applied when the
+    robot's own angle to that point exceeds `max_angle_to_furthest`.
 
     `mode`: 0 forward preference; 1 no directional preference (heading or its reverse,
     whichever is closer); 2 follow the path's own orientation (forward or reverse as
@@ -76,10 +76,16 @@ class PathAngleCritic(CriticFunction):
             angle = math.pi - fwd if reverse else fwd
         if angle < p.max_angle_to_furthest:
             return
-        to_goal = fmath.arctan2(np.float32(gy) - data.y, np.float32(gx) - data.x)
-        err = abs_angle_diff(data.yaws, to_goal)
+        # Nav2 scores each rollout's last pose: its heading against the direction from its
+        # last point to the target
+        last_x, last_y, last_yaw = data.x[:, -1], data.y[:, -1], data.yaws[:, -1]
+        to_target = fmath.arctan2(np.float32(gy) - last_y, np.float32(gx) - last_x)
+        err = abs_angle_diff(last_yaw, to_target)
+        half_turn = np.float32(math.pi)
         if mode == NO_DIRECTIONAL_PREFERENCE:
-            err = np.minimum(err, np.float32(math.pi) - err)
-        elif mode == CONSIDER_FEASIBLE_PATH_ORIENTATIONS and angle != fwd:
-            err = np.float32(math.pi) - err
-        self.add(data, err.mean(axis=1))
+            err = np.minimum(err, half_turn - err)
+        elif mode == CONSIDER_FEASIBLE_PATH_ORIENTATIONS:
+            # per rollout: drive backwards where the path's yaw there points away
+            backwards = abs_angle_diff(np.float32(gyaw), to_target) > half_turn / 2
+            err = np.where(backwards, half_turn - err, err)
+        self.add(data, err)

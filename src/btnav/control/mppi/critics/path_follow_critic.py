@@ -15,7 +15,7 @@ class PathFollowCritic(CriticFunction):
     """Distance from each rollout's end to a path point ahead of the furthest one reached.
 
     The target is `offset_from_furthest` points past the path point that the best
-    rollout reaches, skipped forward past points in collision. Off once the pruned path
+    rollout reaches, skipped forward past points in collision (up to the second-to-last). Off once the pruned path
     is shorter than `threshold_to_consider`, where GoalCritic takes over.
     """
 
@@ -34,7 +34,9 @@ class PathFollowCritic(CriticFunction):
             return
         idx = min(data.furthest_reached_path_point() + self.params.offset_from_furthest, n - 1)
         valid = data.path_points_valid()
-        while idx < n - 1 and not valid[idx]:
+        # Nav2's loop stops short of the last two points (path_size - 1, with path_size
+        # = points - 1): a blocked second-to-last target is kept, the end never checked
+        while idx < n - 2 and not valid[idx]:
             idx += 1
         px, py = data.path[idx, 0], data.path[idx, 1]
         self.add(data, fmath.hypot(data.x[:, -1] - px, data.y[:, -1] - py))
