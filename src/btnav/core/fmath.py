@@ -386,7 +386,7 @@ def _sincos_py(x: float) -> tuple[float, float]:
 
 #: (sin, cos) of Python floats already seen (a pose's yaw is turned many times: frame
 #: lookups, compositions, the robot and its odometry); emptied when it grows past
-#: `_MEMO_MAX`. Zeros are never stored (0.0 and -0.0 are one key but differ in sin).
+#: `_MEMO_MAX`. Zeros never reach it (0.0 and -0.0 are one key but differ in sin).
 _SINCOS_MEMO: dict[float, tuple[float, float]] = {}
 _MEMO_MAX = 4096
 
@@ -394,13 +394,14 @@ _MEMO_MAX = 4096
 def sincos(x: ArrayLike) -> tuple[Any, Any]:
     """(sin(x), cos(x)) from one range reduction, deterministic (see the module docstring)."""
     if type(x) is float:  # the hot case: one Python float, remembered
+        if x == 0.0:  # the yaw of most frames: sin keeps the zero's sign
+            return x, 1.0
         found = _SINCOS_MEMO.get(x)
         if found is None:
             found = _sincos_py(x)
-            if x != 0.0:
-                if len(_SINCOS_MEMO) >= _MEMO_MAX:
-                    _SINCOS_MEMO.clear()
-                _SINCOS_MEMO[x] = found
+            if len(_SINCOS_MEMO) >= _MEMO_MAX:
+                _SINCOS_MEMO.clear()
+            _SINCOS_MEMO[x] = found
         return found
     return _apply(_sincos_vec, _sincos_py, 2, (x,))
 
