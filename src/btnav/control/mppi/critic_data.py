@@ -166,29 +166,40 @@ def in_collision(
     return hit
 
 
-def footprint_checked(
+def collision_check(
     costmap_ros: Any,
     costmap: Costmap2D,
     centre: NDArray[np.uint8],
     x: NDArray[Any],
     y: NDArray[Any],
     yaw: NDArray[Any],
-    inflation_layer_name: str = "",
     *,
+    consider_footprint: bool,
+    inflation_layer_name: str = "",
     skip_free: bool = False,
-) -> tuple[NDArray[np.uint8], NDArray[np.bool_]]:
-    """What Nav2's critics check with `consider_footprint`: the footprint's cost where the
-    centre's cost reaches the circumscribed cost (everywhere without an inflation layer;
-    with `skip_free`, never on a free centre), the centre's elsewhere; and where the
-    footprint's was taken."""
-    possible = costmap_ros.circumscribed_cost(inflation_layer_name)
-    use = centre >= possible if possible >= 1.0 else np.ones(centre.shape, bool)
-    if skip_free:
-        use &= centre > 0
-    out = centre.copy()
-    if use.any():
-        out[use] = footprint_costs(costmap, costmap_ros.footprint, x[use], y[use], yaw[use])
-    return out, use
+) -> tuple[NDArray[np.uint8], NDArray[np.bool_], NDArray[np.bool_]]:
+    """Nav2's critics' collision check at every point: the costs checked, where they are
+    the footprint's, and which points collide.
+
+    With `consider_footprint` (and a costmap server to give the footprint) a point whose
+    centre cost reaches the circumscribed cost (every point without an inflation layer;
+    with `skip_free`, never a free one) is judged by its footprint's cost; otherwise the
+    centre's cost is checked, as for a circular robot."""
+    use = np.zeros(centre.shape, bool)
+    checked = centre
+    footprint = consider_footprint and costmap_ros is not None
+    if footprint:
+        possible = costmap_ros.circumscribed_cost(inflation_layer_name)
+        use = centre >= possible if possible >= 1.0 else np.ones(centre.shape, bool)
+        if skip_free:
+            use &= centre > 0
+        checked = centre.copy()
+        if use.any():
+            checked[use] = footprint_costs(costmap, costmap_ros.footprint, x[use], y[use], yaw[use])
+    hit = in_collision(
+        checked, consider_footprint=footprint, tracking_unknown=tracking_unknown(costmap)
+    )
+    return checked, use, hit
 
 
 def check_footprint_setting(costmap_ros: Any, critic: str, consider_footprint: bool) -> None:

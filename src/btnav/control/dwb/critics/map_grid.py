@@ -32,12 +32,10 @@ def dense_plan(plan: NDArray[np.float64], resolution: float) -> NDArray[np.float
     steps = np.zeros(len(seg), np.int64)
     wide = sq > min_sq
     steps[wide] = ((np.sqrt(sq[wide]) - np.sqrt(min_sq)) / resolution).astype(np.int64) - 1
-    n_in = np.maximum(steps - 1, 0)
-    # each segment i: its start point, then points j = 1 .. steps-1 at start + j * seg / steps
-    n = n_in + 1
+    # each segment: its start point, then points j = 1 .. steps-1 at start + j * seg / steps
+    n = np.maximum(steps, 1)
     idx = np.repeat(np.arange(len(seg)), n)
-    j = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
-    frac = j / np.repeat(np.maximum(steps, 1), n)
+    frac = (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
     pts = plan[idx, :2] + seg[idx] * frac[:, None]
     return np.vstack([pts, plan[-1:, :2]])
 

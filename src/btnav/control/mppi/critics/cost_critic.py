@@ -9,14 +9,7 @@ from pydantic import Field
 
 from ....params.schema import Why, ignored
 from ....plugins import register
-from ..critic_data import (
-    CriticData,
-    cell_costs,
-    check_footprint_setting,
-    footprint_checked,
-    in_collision,
-    tracking_unknown,
-)
+from ..critic_data import CriticData, cell_costs, check_footprint_setting, collision_check
 from ..critic_function import NAMESPACE, CriticFunction
 
 
@@ -67,17 +60,12 @@ class CostCritic(CriticFunction):
         step = p.trajectory_point_step
         xs, ys = data.x[:, ::step], data.y[:, ::step]
         costs = cell_costs(data.costmap, xs, ys)
-        footprint = p.consider_footprint and self.costmap_ros is not None
-        checked = costs
-        if footprint:
-            # Nav2 skips free points before it looks at the footprint
-            checked, _ = footprint_checked(
-                self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
-                p.inflation_layer_name, skip_free=True,
-            )  # fmt: skip
-        collide_pt = in_collision(
-            checked, consider_footprint=footprint, tracking_unknown=tracking_unknown(data.costmap)
-        )
+        # Nav2 skips free points before it looks at the footprint; it scores centre costs
+        _, _, collide_pt = collision_check(
+            self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
+            consider_footprint=p.consider_footprint,
+            inflation_layer_name=p.inflation_layer_name, skip_free=True,
+        )  # fmt: skip
         collide = collide_pt.any(axis=1)
         near_goal = data.local_path_length() < p.near_goal_distance
         critical = costs >= p.near_collision_cost

@@ -11,14 +11,7 @@ from pydantic import Field
 from ....core import fmath
 from ....params.schema import ignored
 from ....plugins import register
-from ..critic_data import (
-    CriticData,
-    cell_costs,
-    check_footprint_setting,
-    footprint_checked,
-    in_collision,
-    tracking_unknown,
-)
+from ..critic_data import CriticData, cell_costs, check_footprint_setting, collision_check
 from ..critic_function import NAMESPACE, CriticFunction
 
 
@@ -100,16 +93,11 @@ class ObstaclesCritic(CriticFunction):
         step = p.trajectory_point_step
         xs, ys = data.x[:, ::step], data.y[:, ::step]
         costs = cell_costs(data.costmap, xs, ys)
-        footprint = p.consider_footprint and self.costmap_ros is not None
-        on_footprint = np.zeros(costs.shape, bool)
-        if footprint:
-            costs, on_footprint = footprint_checked(
-                self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
-                p.inflation_layer_name,
-            )  # fmt: skip
-        collide_pt = in_collision(
-            costs, consider_footprint=footprint, tracking_unknown=tracking_unknown(data.costmap)
-        )
+        # Nav2 scores the footprint's cost where it took it
+        costs, on_footprint, collide_pt = collision_check(
+            self.costmap_ros, data.costmap, costs, xs, ys, data.yaws[:, ::step],
+            consider_footprint=p.consider_footprint, inflation_layer_name=p.inflation_layer_name,
+        )  # fmt: skip
         collide = collide_pt.any(axis=1)
         # scored: the non-free points before a rollout's first collision
         scored = (costs > 0) & ~np.logical_or.accumulate(collide_pt, axis=1)

@@ -15,8 +15,9 @@ class PathFollowCritic(CriticFunction):
     """Distance from each rollout's end to a path point ahead of the furthest one reached.
 
     The target is `offset_from_furthest` points past the path point that the best
-    rollout reaches, skipped forward past points in collision (up to the second-to-last). Off once the pruned path
-    is shorter than `threshold_to_consider`, where GoalCritic takes over.
+    rollout reaches, skipped forward past points in collision (up to the second-to-last).
+    Off once the pruned path is shorter than `threshold_to_consider`, where GoalCritic
+    takes over.
     """
 
     class Params(CriticFunction.Params):
