@@ -69,3 +69,51 @@ def test_describe_reads_like_view_frames():
     text = robot_tree().describe()
     assert text.splitlines()[0] == "map"
     assert "    laser" in text or "laser" in text.splitlines()[-1]
+
+
+def _reference_lookup(tree: FrameTree, target: str, source: str) -> Pose2D:
+    """lookup as Pose2D's own algebra spells it: inverse(target in root) @ (source in root)."""
+
+    def to_root(frame: str) -> Pose2D:
+        pose = Pose2D()
+        while frame in tree._edges:
+            edge = tree._edges[frame]
+            pose = edge.transform @ pose
+            frame = edge.parent
+        return pose
+
+    return to_root(target).inverse() @ to_root(source)
+
+
+def _bits(p: Pose2D) -> tuple[str, ...]:
+    return tuple(float(v).hex() if not math.isnan(v) else "nan" for v in (p.x, p.y, p.yaw))
+
+
+def test_lookup_is_pose2d_algebra_bit_for_bit_signed_zeros_included():
+    """The lookup's shortcuts (a root target, zero yaws) give Pose2D's bits, zeros' signs
+    included, on random chains with zero, negative-zero and turned transforms."""
+    rng = np.random.default_rng(7)
+    values = [0.0, -0.0, 1.5, -2.25, 1e-300, -1e-300, 3.0]
+    for _ in range(300):
+        tree = FrameTree.rep105()
+
+        def pick() -> Pose2D:
+            x, y = (float(v) for v in rng.choice(values, 2))
+            if rng.random() < 0.5:
+                x, y = (float(v) for v in rng.normal(0.0, 5.0, 2))
+            yaw = float(rng.choice([0.0, -0.0, math.pi, -3.0, 0.7, float(rng.uniform(-3.1, 3.1))]))
+            return Pose2D(x, y, yaw)
+
+        tree.set_transform("map", "odom", pick(), stamp=1.0)
+        tree.set_transform("odom", "base_footprint", pick(), stamp=1.0)
+        tree.set_static("base_link", "laser", pick())
+        tree.set_static("map", "marker", pick())
+        frames = ["map", "odom", "base_footprint", "base_link", "laser", "marker"]
+        for target in frames:
+            for source in frames:
+                got = tree.lookup(target, source)
+                assert _bits(got) == _bits(_reference_lookup(tree, target, source)), (
+                    target,
+                    source,
+                )
+                assert tree.lookup(target, source) is got  # remembered until a change

@@ -126,10 +126,13 @@ class FrameTree:
         node = frame
         edges = self._edges
         edge = edges.get(node)
+        sincos = fmath.sincos
         while edge is not None:
             tf = edge.transform
-            s, c = fmath.sincos(tf.yaw)
-            x, y, yaw = tf.x + c * x - s * y, tf.y + s * x + c * y, tf.yaw + yaw
+            e_yaw = tf.yaw
+            # sincos(±0.0) is (the zero, 1.0): most mounts and frames do not turn
+            s, c = (e_yaw, 1.0) if e_yaw == 0.0 and type(e_yaw) is float else sincos(e_yaw)
+            x, y, yaw = tf.x + c * x - s * y, tf.y + s * x + c * y, e_yaw + yaw
             if not -math.pi < yaw <= math.pi:
                 yaw = normalize_angle(yaw)  # as Pose2D keeps its yaw
             node = edge.parent
@@ -144,10 +147,18 @@ class FrameTree:
         found = self._lookups.get((target, source))
         if found is not None:
             return found
-        self.require(target)
-        self.require(source)
-        root_t, tx, ty, tyaw = self._to_root(target)
+        edges, roots = self._edges, self._roots
+        if not (target in edges or target in roots) or not (source in edges or source in roots):
+            self.require(target)
+            self.require(source)
         root_s, sx, sy, syaw = self._to_root(source)
+        if target == root_s:
+            # the general arithmetic below with (tx, ty, tyaw) = (0.0, 0.0, 0.0): the
+            # inverse is (-0.0, 0.0, -0.0), its sincos (-0.0, 1.0), and c * v is v
+            found = Pose2D((-0.0 + sx) - -0.0 * sy, (0.0 + -0.0 * sx) + sy, -0.0 + syaw)
+            self._lookups[(target, source)] = found
+            return found
+        root_t, tx, ty, tyaw = self._to_root(target)
         if root_t != root_s:
             raise FrameError(
                 f"frames '{target}' and '{source}' are not connected "

@@ -43,7 +43,7 @@ from ..core.nav2_msgs import (
     NavigateToPoseGoal,
 )
 from ..core.suggest import best_match
-from ..nav.actions import ActionServer, GoalHandle
+from ..nav.actions import ActionServer, GoalHandle, GoalStatus
 from ..nav.runtime import Runtime, Stage
 from ..nav.server_plugins import make_plugin
 from ..params.paramsfile import ParamsFile, ServerParams
@@ -54,6 +54,7 @@ from .path_progress import PathProgress
 Blackboard = py_trees.blackboard.Blackboard
 #: py_trees' blackboard storage (one dict for the process, cleared in place, never rebound).
 _STORAGE: dict[str, Any] = Blackboard.storage
+_EXECUTING = GoalStatus.EXECUTING
 
 
 def _pose(value: Any) -> Any:
@@ -190,6 +191,20 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         self._begin_goal(new, now)
         return self.execute(new, now)
 
+    def update(self, now: float) -> None:
+        """ActionServer's cycle, the two ways it takes 100 times a second first: nothing to
+        do (an idle navigator), and a goal that executes with none pending (a tree's tick)."""
+        if self.pending is None:
+            handle = self.current
+            if handle is None:
+                self.now = now
+                return
+            if handle.status is _EXECUTING and handle.accepted:
+                self.now = now
+                self._run(handle, self.execute, now)
+                return
+        super().update(now)
+
     def execute(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
         root = self.root
         root.tick_once()
@@ -231,8 +246,8 @@ class BehaviorTreeNavigator(ActionServer[Any]):
     def _feedback(self, now: float) -> Any:
         rt = self.bt.runtime
         params = self.bt.params
-        try:
-            pose = rt.robot_pose(params.global_frame, params.robot_base_frame)
+        try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
+            pose = rt.frames.lookup(params.global_frame, params.robot_base_frame)
         except Exception:
             pose = Pose2D()
         remaining = self._distance_remaining(pose)

@@ -55,8 +55,11 @@ class PathProgress:
         self._py: Any = None
         self._stop: dict[int, int] = {}  # one past the search window's last pose, by start
         self._length_from: dict[int, float] = {}  # by closest pose
-        # the last search, (start, x, y) -> closest: odometry comes at half the tree's rate
-        self._last: tuple[int, float, float, int] = (-1, math.nan, math.nan, 0)
+        # the last search, (start, x, y, closest, its squared distance, stop): odometry
+        # comes at half the tree's rate
+        self._last: tuple[int, float, float, int, float, int] = (
+            -1, math.nan, math.nan, 0, math.nan, -1
+        )
 
     def reset(self) -> None:
         """A new goal: the next path starts the search from its first pose."""
@@ -72,7 +75,7 @@ class PathProgress:
         self._seg = seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
         self._stop = {}
         self._length_from = {}
-        self._last = (-1, math.nan, math.nan, 0)
+        self._last = (-1, math.nan, math.nan, 0, math.nan, -1)
         self._exact = xy.dtype == np.float64 and bool(np.isfinite(xy).all())
         if self._exact:
             self._xs, self._ys = self._px.tolist(), self._py.tolist()
@@ -88,18 +91,25 @@ class PathProgress:
             self._take(path)
         start = self.closest
         last = self._last
-        if last[0] == start and last[1] == x and last[2] == y:  # the same search again
+        if last[1] == x and last[2] == y and last[0] == start:  # the same search again
             closest = last[3]
         else:
             stop = self._stop.get(start)
             if stop is None:
                 end = self._window(start, self.search_window())
                 stop = self._stop[start] = min(end + 1, self._n)
-            if self._exact and math.isfinite(x) and math.isfinite(y):
-                closest = self._scan(start, stop, x, y)
+            if not (self._exact and math.isfinite(x) and math.isfinite(y)):
+                closest, best_sq = self._full_scan(start, stop, x, y), math.nan
+            elif last[1] == x and last[2] == y and last[3] == start and last[5] <= stop:
+                # the robot has not moved since the search that found `start` (odometry
+                # comes at half the tree's rate): that search's window held no pose nearer
+                # than `start` up to its end, so only the poses this window adds can be
+                closest, best_sq = self._scan(last[5], stop, x, y, start, last[4])
             else:
-                closest = self._full_scan(start, stop, x, y)
-            self._last = (start, x, y, closest)
+                dx = self._xs[start] - x
+                dy = self._ys[start] - y
+                closest, best_sq = self._scan(start + 1, stop, x, y, start, dx * dx + dy * dy)
+            self._last = (start, x, y, closest, best_sq, stop)
         self.closest = closest
         remaining = self._length_from.get(closest)
         if remaining is None:  # float(seg[closest:].sum()), without sum's Python wrapper
@@ -136,27 +146,44 @@ class PathProgress:
         dx += dy
         return start + int(dx.argmin())
 
-    def _scan(self, start: int, stop: int, x: float, y: float) -> int:
-        """`_full_scan`'s index, jumping over poses the triangle inequality rules out."""
+    def _scan(
+        self, first: int, stop: int, x: float, y: float, best: int, best_sq: float
+    ) -> tuple[int, float]:
+        """`_full_scan`'s index and squared distance over poses `first` to `stop`, given the
+        closest pose before them (`best`, at `best_sq`), jumping over poses the triangle
+        inequality rules out. When the robot is far from the best pose so far, the window's
+        last pose is measured first: if the robot is well ahead of the search's start (a
+        new path is searched from its first pose), its distance rules out the poses far
+        behind at once, where the scan would otherwise walk up to it pose by pose."""
         xs, ys, arc = self._xs, self._ys, self._arc
         slack = self._slack + _SLACK * (abs(x) + abs(y))
         sqrt = math.sqrt
-        dx = xs[start] - x
-        dy = ys[start] - y
-        best_sq = dx * dx + dy * dy
-        best = start
-        reach = sqrt(best_sq) + slack  # no pose nearer than this is ruled out
-        i = start + 1
-        while i < stop:
+        end, end_sq = stop, math.inf  # the window's last pose, measured first
+        if stop - first >= 2 and 16.0 * best_sq > (arc[stop - 1] - arc[first]) ** 2:
+            # (the robot is a quarter of the window or more away from the best pose so far:
+            # it may well be ahead; nearer, the scan rules the far poses out by itself)
+            end = stop - 1
+            dx = xs[end] - x
+            dy = ys[end] - y
+            end_sq = dx * dx + dy * dy
+        bound = end_sq if end_sq < best_sq else best_sq  # some pose of the window is this near
+        reach = sqrt(bound) + slack  # no pose nearer than this is ruled out
+        i = first
+        while i < end:
             dx = xs[i] - x
             dy = ys[i] - y
             sq = dx * dx + dy * dy
-            if sq < best_sq:
-                best_sq, best = sq, i
+            if sq < bound:  # (bound <= best_sq; in order: the first of equal ones stays)
+                bound = best_sq = sq
+                best = i
                 reach = sqrt(sq) + slack
                 i += 1
                 continue
+            if sq < best_sq:  # nearer than the poses before, not than the window's last
+                best_sq, best = sq, i
             # every pose k > i is at least sqrt(sq) - (arc[k] - arc[i]) from the robot
             gap = sqrt(sq) - reach
-            i = bisect_left(arc, arc[i] + gap, i + 1, stop) if gap > 0.0 else i + 1
-        return best
+            i = bisect_left(arc, arc[i] + gap, i + 1, end) if gap > 0.0 else i + 1
+        if end_sq < best_sq:
+            best_sq, best = end_sq, end
+        return best, best_sq
