@@ -7,7 +7,7 @@ import pytest
 
 from btnav.core import fmath
 from btnav.maps import FREE, OCCUPIED, UNKNOWN
-from btnav.slam.occupancy_mapper import OccupancyMapper
+from btnav.slam.occupancy_mapper import MapTooLargeError, OccupancyMapper
 
 RES = 0.05
 #: A square room's walls: x = X0, x = X1, y = Y0, y = Y1 (off the cell borders on purpose).
@@ -209,6 +209,14 @@ def test_bad_arguments_are_refused():
         mapper.add_scan((0, 0, 0), np.ones(3), np.zeros(4))
     with pytest.raises(ValueError, match="one row per scan"):
         mapper.rebuild(np.zeros((2, 3)), [(np.ones(3), np.zeros(3), (0, 0, 0))])
-    with pytest.raises(ValueError, match="diverged"):
+    with pytest.raises(MapTooLargeError, match="diverged, or the area needs a coarser resolution"):
         mapper.add_scan((0, 0, 0), np.ones(3), np.zeros(3))
         mapper.add_scan((1e6, 0, 0), np.ones(3), np.zeros(3))
+
+
+def test_a_building_complex_fits():
+    """Freiburg's hospital log spans ~400 m of odometry: its map is large, not diverged."""
+    mapper = OccupancyMapper(RES, 20.0)
+    mapper.add_scan((0, 0, 0), np.ones(3), np.zeros(3))
+    mapper.add_scan((420.0, -130.0, 0), np.ones(3), np.zeros(3))
+    assert mapper.grid().size_m[0] > 420.0

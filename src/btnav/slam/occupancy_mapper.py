@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..core import fmath
+from ..core.errors import BtnavError
 from ..core.geometry import Pose2D, compose_arrays
 from ..maps.occupancy_grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 
@@ -49,11 +50,17 @@ F64 = NDArray[np.float64]
 _BLOCK_CELLS = 1 << 18
 #: The count arrays grow by this many cells beyond what a scan needs, so growth is rare.
 _GROW_CELLS = 256
-#: Count arrays larger than this (cells) are refused: a pose that far away means a broken graph.
-MAX_CELLS = 40_000_000
+#: Count arrays larger than this (cells, 2 GB of counts) are refused: 790 m square at 5 cm
+#: holds the largest benchmark log (Freiburg's hospital, ~400 x 200 m of odometry and the
+#: laser's reach around it); a pose farther out means a diverged graph or a map too fine.
+MAX_CELLS = 250_000_000
 
 #: One scan for `rebuild`: (ranges, beam angles in the sensor frame, sensor pose in base).
 ScanEntry = tuple[ArrayLike, ArrayLike, ArrayLike]
+
+
+class MapTooLargeError(BtnavError, ValueError):
+    """A map beyond MAX_CELLS: one clear message (the CLI exits 2), not a memory error."""
 
 
 def _pose_row(value: ArrayLike, what: str) -> F64:
@@ -264,11 +271,13 @@ class OccupancyMapper:
             new_c1 = self._col0 + w if hi_c < self._col0 + w else hi_c + 1 + _GROW_CELLS
         shape = (new_r1 - new_r0, new_c1 - new_c0)
         if shape[0] * shape[1] > MAX_CELLS:
-            raise ValueError(
+            raise MapTooLargeError(
                 f"the SLAM map would need {shape[1]} x {shape[0]} cells at {self.resolution:g} m "
                 f"(more than {MAX_CELLS:,}): a scan pose lies "
                 f"{max(abs(lo_r), abs(hi_r), abs(lo_c), abs(hi_c)) * self.resolution:.0f} m "
-                "from the first one; the pose graph has probably diverged"
+                "from the first one; the pose graph has diverged, or the area needs a "
+                "coarser resolution",
+                key="resolution",
             )
         passes = np.zeros(shape, np.int32)
         hits = np.zeros(shape, np.int32)
