@@ -26,9 +26,19 @@ Scan geometry (`--angle-increment-deg`): the Intel logs declare 180 beams from -
 +90 degrees, pi/179 apart, but their scans are consistent only at 1 degree apart (from
 -90 to +89): matching pairs of scans against the relations, the heading error grows by
 0.56% of the turn (= 180/179 - 1) with pi/179 and by -0.08% with 1 degree. The CARMEN
-reader reads the .clf at 1 degree (CARMEN's default resolution); the bag declares
-pi/179, and `auto` (default) applies 1 degree to a 180-beam scan that does, and says so;
-`declared` keeps the log's geometry; a number sets every scan's beam spacing.
+reader reads the .clf at 1 degree (CARMEN's default resolution); the bags of the family
+(INESC TEC's conversions) declare pi/(n-1) for n = 180 or 360 beams, and `auto`
+(default) applies 180/n degrees to such a scan, and says so; `declared` keeps the log's
+geometry; a number sets every scan's beam spacing.
+
+The other logs of the family (ACES, MIT CSAIL, MIT Killian Court, Freiburg 079, the
+Freiburg hospital) run the same way; their relations file is found beside the log as
+`<name>.relations`, with `name` the file name up to its first dot or underscore
+(`fr-clinic_robotlaser.orig.bag` -> `fr-clinic.relations`). When some relations span
+more than a minute (the hospital's global ones, start to end of a 400 m tour), the
+errors over the local ones (t2 - t1 <= 60 s) are printed too, as Kümmerle et al. report
+the hospital. A log whose clock is not the relations' (no relation within 50 ms of a
+scan) says so instead of printing NaN.
 """
 
 from __future__ import annotations
@@ -70,8 +80,11 @@ PUBLISHED_INTEL = (
     ("GMapping (RBPF)", "Kümmerle et al. 2009", 0.070, 0.083, 3.0, 5.3),
     ("scan matching", "Kümmerle et al. 2009", 0.220, 0.296, 1.7, 4.8),
 )
-#: The geometry the Intel logs declare: 180 beams, pi/179 apart.
-INTEL_BEAMS, INTEL_DECLARED = 180, math.pi / 179.0
+#: Scans of 180 or 360 beams over a half turn are 1 or 0.5 degrees apart (CARMEN's
+#: resolutions), whatever spacing a bag declares for them.
+HALF_TURN_BEAMS = 180
+#: Relations at most this far apart in time are the local ones (Kümmerle et al.'s split).
+LOCAL_SPAN = 60.0
 
 
 def default_logs() -> list[Path]:
@@ -88,12 +101,13 @@ def fix_geometry(log: RecordedLog, how: str) -> str:
     first = log.scans[0]
     declared_deg = math.degrees(first.angle_increment)
     if how == "auto":
-        declared = first.ranges.size == INTEL_BEAMS and math.isclose(
-            first.angle_increment, INTEL_DECLARED, rel_tol=1e-3
+        n = first.ranges.size
+        declared = n % HALF_TURN_BEAMS == 0 and math.isclose(
+            first.angle_increment, math.pi / (n - 1), rel_tol=1e-3
         )
         if not declared:
             return "declared beam spacing"
-        inc = math.radians(1.0)
+        inc = math.pi / n
     else:
         inc = math.radians(float(how))
     for s in log.scans:
@@ -105,6 +119,14 @@ def fix_geometry(log: RecordedLog, how: str) -> str:
     )
 
 
+def relations_path(log: Path) -> Path:
+    """`<log stem>.relations` beside the log, else `<name up to the first . or _>.relations`."""
+    first = log.with_suffix(".relations")
+    if first.exists():
+        return first
+    return log.parent / (log.name.split(".")[0].split("_")[0] + ".relations")
+
+
 def line(label: str, e: RelationErrors) -> str:
     return (
         f"  {label:<40} {100 * e.trans_mean:6.2f} ± {100 * e.trans_std:6.2f} cm   "
@@ -112,12 +134,27 @@ def line(label: str, e: RelationErrors) -> str:
     )
 
 
+def score(
+    rel_path: Path, what: str, rel: np.ndarray, stamps: np.ndarray, trajectories: list
+) -> None:
+    """One block of relation errors, one line per trajectory."""
+    errors = [(label, relation_errors(stamps, poses, rel)) for label, poses in trajectories]
+    used = errors[0][1].used
+    if used == 0:
+        print(f"  none of the {len(rel)} relations of {rel_path.name} fall within 50 ms of a "
+              "scan: the log's clock is not the relations'")  # fmt: skip
+        return
+    note = f", {len(rel) - used} off the log's stamps" if used < len(rel) else ""
+    print(f"  {what}relation errors over {used} relations ({rel_path.name}{note})"
+          "           translation          rotation")  # fmt: skip
+    for label, e in errors:
+        print(line(label, e))
+
+
 def bench(
     path: Path, params_path: str | None, geometry: str, trajectory: str, lua: str | None = None
 ) -> None:
-    rel_path = path.with_suffix(".relations")
-    if not rel_path.exists():
-        rel_path = path.parent / (path.name.split(".")[0] + ".relations")
+    rel_path = relations_path(path)
     log = read_log(path)
     note = fix_geometry(log, geometry)
     cpu0 = time.process_time()  # a shared machine stretches wall time; CPU time does not
@@ -136,13 +173,17 @@ def bench(
     print(f"{path.name}: {len(log.scans)} scans, {note}, {engine} with {config}")
     if rel_path.exists():
         rel = relations(rel_path)
-        print(f"  relation errors over {len(rel)} relations ({rel_path.name})"
-              "           translation          rotation")  # fmt: skip
-        print(line(f"btnav {engine} ({trajectory})", relation_errors(stamps, result.poses, rel)))
+        trajectories = [(f"btnav {engine} ({trajectory})", result.poses)]
         if trajectory == "matched" and isinstance(result.mapper, Mapper):
             by_odom = odometry_trajectory(result.mapper, odom, node_of)
-            print(line("  same map, map->odom x odometry", relation_errors(stamps, by_odom, rel)))
-        print(line("odometry", relation_errors(stamps, odom, rel)))
+            trajectories.append(("  same map, map->odom x odometry", by_odom))
+        trajectories.append(("odometry", odom))
+        span = rel[:, 1] - rel[:, 0]
+        sets = [("", rel)]
+        if (span > LOCAL_SPAN).any():
+            sets.append((f"local (t2 - t1 <= {LOCAL_SPAN:g} s) ", rel[span <= LOCAL_SPAN]))
+        for what, subset in sets:
+            score(rel_path, what, subset, stamps, trajectories)
         if path.name.startswith("intel."):
             for name, source, tm, ts, rm, rs in PUBLISHED_INTEL:
                 print(
