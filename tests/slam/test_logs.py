@@ -80,6 +80,18 @@ def test_180_flaser_beams_without_params_are_one_degree_apart(tmp_path: Path) ->
     assert scan.angle_max == pytest.approx(math.radians(89.0))
 
 
+@pytest.mark.parametrize(("beams", "last_deg"), [(360, 89.5), (361, 90.0)])
+def test_half_degree_flaser_scans_as_fr079_and_mit_csail_log_them(
+    tmp_path: Path, beams: int, last_deg: float
+) -> None:
+    """FR079 logs 360 beams a scan, MIT CSAIL 361: both are 0.5 degrees apart."""
+    line = f"FLASER {beams} " + " ".join(["3.0"] * beams) + " 0 0 0 0 0 0 5.0 h 5.0\n"
+    scan = read_log(write(tmp_path, line)).scans[0]
+    assert scan.angle_min == pytest.approx(-math.pi / 2)
+    assert scan.angle_increment == pytest.approx(math.radians(0.5))
+    assert scan.angle_max == pytest.approx(math.radians(last_deg))
+
+
 def test_flaser_geometry_and_mount_from_params(tmp_path: Path) -> None:
     text = (
         "PARAM laser_front_laser_resolution 1.0\n"
