@@ -43,7 +43,7 @@ from ..core.nav2_msgs import (
     NavigateToPoseGoal,
 )
 from ..core.suggest import best_match
-from ..nav.actions import ActionServer, GoalHandle, GoalStatus
+from ..nav.actions import ActionServer, GoalHandle
 from ..nav.runtime import Runtime, Stage
 from ..nav.server_plugins import make_plugin
 from ..params.paramsfile import ParamsFile, ServerParams
@@ -54,7 +54,6 @@ from .path_progress import PathProgress
 Blackboard = py_trees.blackboard.Blackboard
 #: py_trees' blackboard storage (one dict for the process, cleared in place, never rebound).
 _STORAGE: dict[str, Any] = Blackboard.storage
-_EXECUTING = GoalStatus.EXECUTING
 
 
 def _pose(value: Any) -> Any:
@@ -190,20 +189,6 @@ class BehaviorTreeNavigator(ActionServer[Any]):
             return self.on_start(new, now)
         self._begin_goal(new, now)
         return self.execute(new, now)
-
-    def update(self, now: float) -> None:
-        """ActionServer's cycle, the two ways it takes 100 times a second first: nothing to
-        do (an idle navigator), and a goal that executes with none pending (a tree's tick)."""
-        if self.pending is None:
-            handle = self.current
-            if handle is None:
-                self.now = now
-                return
-            if handle.status is _EXECUTING and handle.accepted:
-                self.now = now
-                self._run(handle, self.execute, now)
-                return
-        super().update(now)
 
     def execute(self, handle: GoalHandle[Any], now: float) -> NavResult | None:
         root = self.root

@@ -58,7 +58,12 @@ class PathProgress:
         # the last search, (start, x, y, closest, its squared distance, stop): odometry
         # comes at half the tree's rate
         self._last: tuple[int, float, float, int, float, int] = (
-            -1, math.nan, math.nan, 0, math.nan, -1
+            -1,
+            math.nan,
+            math.nan,
+            0,
+            math.nan,
+            -1,
         )
 
     def reset(self) -> None:
