@@ -135,7 +135,11 @@ def line(label: str, e: RelationErrors) -> str:
 
 
 def score(
-    rel_path: Path, what: str, rel: np.ndarray, stamps: np.ndarray, trajectories: list
+    rel_path: Path,
+    what: str,
+    rel: np.ndarray,
+    stamps: np.ndarray,
+    trajectories: list[tuple[str, np.ndarray]],
 ) -> None:
     """One block of relation errors, one line per trajectory."""
     errors = [(label, relation_errors(stamps, poses, rel)) for label, poses in trajectories]
