@@ -33,6 +33,17 @@ from .scan_matcher import MatcherParams, MatchResult, ScanMatcher
 
 F64 = NDArray[np.float64]
 
+#: A sequential match whose response is below this is searched again over the loop
+#: matcher's window (`Mapper._rescue`); Karto accepts every sequential match. Good
+#: matches score 0.8-0.95 on the benchmark logs. The search window of the sequential
+#: matcher (+-0.25 m around the odometry's guess with slam_toolbox's defaults) cannot
+#: reach a pose the odometry misplaced by more: FR079's wheel odometry counts every
+#: reversal as forward travel (21 times, 0.5-1 m off between processed scans), and a
+#: match at the window's edge then bends the map (docs/architecture.md, FR079).
+RESCUE_BELOW_RESPONSE = 0.7
+#: ... and the wider search's match replaces it only when its response is higher by this.
+RESCUE_MARGIN = 0.1
+
 
 def relative(a: F64, b: F64) -> F64:
     """Pose b in a's frame (a^-1 (+) b)."""
@@ -132,6 +143,9 @@ class Mapper:
         self.sequential = ScanMatcher(matcher_params(params, loop=False))
         self.loop = ScanMatcher(matcher_params(params, loop=True))
         self.loop_closures = 0
+        #: Sequential matches searched again over the loop window, and those replaced.
+        self.rescues_tried = 0
+        self.rescues = 0
         #: Bumped whenever existing poses move (an optimisation): the map must be rebuilt.
         self.revision = 0
         #: Bumped whenever any node pose changes; keys the barycenter cache.
@@ -216,7 +230,10 @@ class Mapper:
         covariance = np.eye(3)
         first = not self.scans
         if p.use_scan_matching and not first and len(scan.points):
-            result = self.sequential.match(scan.points, pose, self._reference(self.running))
+            reference = self._reference(self.running)
+            result = self.sequential.match(scan.points, pose, reference)
+            if result.response < RESCUE_BELOW_RESPONSE:
+                result = self._rescue(scan.points, pose, reference, result)
             pose, covariance = result.pose, result.covariance
         self.scans.append(scan)
         node = self.graph.add_node(pose)
@@ -227,6 +244,21 @@ class Mapper:
             if p.do_loop_closing and len(scan.points):
                 self._try_close_loop(node)
         return True
+
+    def _rescue(
+        self, points: F64, guess: F64, reference: list[tuple[F64, F64]], result: MatchResult
+    ) -> MatchResult:
+        """A sequential match with little support, searched again as a loop closure is
+        (the loop matcher's coarse window, then the sequential matcher's fine search)
+        against the same running scans; the better-supported of the two by at least
+        `RESCUE_MARGIN` wins. btnav's, not Karto's: see `RESCUE_BELOW_RESPONSE`."""
+        self.rescues_tried += 1
+        coarse = self.loop.match(points, guess, reference, penalize=False, refine=False)
+        fine = self.sequential.match(points, coarse.pose, reference, penalize=False)
+        if fine.response < result.response + RESCUE_MARGIN:
+            return result
+        self.rescues += 1
+        return fine
 
     def _add_running(self, node: int) -> None:
         """Karto's AddRunningScan: cap the buffer by count and by span."""
