@@ -68,3 +68,119 @@ def test_a_new_path_starts_from_its_first_pose():
     other = Path(0.0, straight.copy())
     assert progress.remaining(other, 2.9, 0.0) == pytest.approx(np.ptp(straight[40:, 0]))
     assert progress.closest == 40  # the window from pose 0 ends 2 m along
+
+
+@pytest.mark.parametrize("make", [grid_path, wavy_path])
+def test_a_robot_moving_along_the_path_is_searched_as_nav2_does(make):
+    """Small steps near the path (the searches a scan's certificate answers), now and then
+    exactly on a pose or a midpoint between two (ties), now and then a jump."""
+    rng = np.random.default_rng(5)
+    for _ in range(60):
+        poses = make(rng)
+        window = float(rng.choice([0.5, 2.0, 0.025 * rng.integers(1, 40)]))
+        progress = PathProgress(lambda w=window: w)
+        path = Path(0.0, poses)
+        start, k = 0, 0.0
+        for _ in range(150):
+            k = min(k + abs(rng.normal(0.3, 0.4)), len(poses) - 1.0)
+            if rng.random() < 0.05:
+                k = float(rng.integers(len(poses)))
+            i = int(k)
+            j = min(i + 1, len(poses) - 1)
+            x, y = poses[i, :2] + (k - i) * (poses[j, :2] - poses[i, :2])
+            x, y = float(x), float(y)
+            roll = rng.random()
+            if roll < 0.15:  # on a pose
+                x, y = float(poses[i, 0]), float(poses[i, 1])
+            elif roll < 0.3:  # halfway between two poses
+                x, y = (
+                    (float(poses[i, 0]) + poses[j, 0]) / 2,
+                    (float(poses[i, 1]) + poses[j, 1]) / 2,
+                )
+            else:
+                x, y = x + rng.normal(0, 0.01), y + rng.normal(0, 0.01)
+            want = nav2_remaining(poses, start, window, x, y)
+            got = progress.remaining(path, float(x), float(y))
+            assert (progress.closest, got) == want
+            start = progress.closest
+
+
+def hairpin_path(rng: np.random.Generator) -> np.ndarray:
+    """Out along y = 0 and back along y = gap, the legs a few centimetres apart (poses of
+    the way back are near the robot while far along the path), the poses 1 to 12 cm apart
+    (a sparse path: the next pose along can be further than the next leg)."""
+    step, gap = rng.uniform(0.01, 0.12), rng.uniform(0.02, 0.12)
+    out = np.arange(0.0, rng.uniform(0.3, 1.5), step)
+    xy = np.concatenate([np.stack([out, 0 * out], -1), np.stack([out[::-1], gap + 0 * out], -1)])
+    return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
+
+
+def test_a_robot_between_two_legs_of_a_hairpin_is_searched_as_nav2_does():
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        poses = hairpin_path(rng)
+        progress = PathProgress(lambda: 2.0)
+        path = Path(0.0, poses)
+        start = 0
+        x, y = float(poses[0, 0]), 0.0
+        for _ in range(100):
+            # steps of a few cm in any direction, drifting along and across the legs
+            x += float(rng.normal(0.008, 0.012))
+            y = float(np.clip(y + rng.normal(0, 0.015), -0.05, 0.15))
+            want = nav2_remaining(poses, start, 2.0, x, y)
+            got = progress.remaining(path, x, y)
+            assert (progress.closest, got) == want
+            start = progress.closest
+
+
+def test_a_near_pose_left_behind_is_not_taken_for_the_closest():
+    """A sparse path turning sharply: the robot steps 3 cm towards the second pose (it
+    becomes the closest), then, still within 3 cm of where the search scanned, towards
+    the third, which was just too far then to be among the near poses: the third is the
+    closest now, though the second is nearer than the near poses' reach."""
+    turn = np.radians(48.0)
+    poses = np.array(
+        [
+            [0.0, 0.0, 0.0],
+            [0.059, 0.0, 0.0],
+            [0.0601 * np.cos(turn), 0.0601 * np.sin(turn), 0.0],
+            [0.0, 1.0, 0.0],
+        ]
+    )
+    progress = PathProgress(lambda: 2.0)
+    path = Path(0.0, poses)
+    start = 0
+    steps = [(0.0, 0.0, 0), (0.0299, 0.0, 1), (0.0299 * np.cos(turn), 0.0299 * np.sin(turn), 2)]
+    for x, y, closest in steps:
+        want = nav2_remaining(poses, start, 2.0, x, y)
+        got = progress.remaining(path, float(x), float(y))
+        assert (progress.closest, got) == want
+        assert progress.closest == closest
+        start = progress.closest
+
+
+def polyline_path(rng: np.random.Generator) -> np.ndarray:
+    """Legs of 2 to 10 cm in random directions: sharp turns, poses far apart."""
+    heading = np.cumsum(rng.uniform(-2.0, 2.0, rng.integers(5, 60)))
+    step = rng.uniform(0.02, 0.1, len(heading))
+    xy = np.cumsum(np.stack([step * np.cos(heading), step * np.sin(heading)], -1), axis=0)
+    return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
+
+
+def test_a_robot_wandering_about_a_sparse_winding_path_is_searched_as_nav2_does():
+    rng = np.random.default_rng(8)
+    for _ in range(200):
+        poses = polyline_path(rng)
+        progress = PathProgress(lambda: 2.0)
+        path = Path(0.0, poses)
+        start = 0
+        x, y = float(poses[0, 0]), float(poses[0, 1])
+        for _ in range(60):
+            # a step of up to a few cm, half of it towards the pose after the closest
+            ahead = poses[min(start + 1, len(poses) - 1), :2]
+            x += float(0.3 * (ahead[0] - x) + rng.normal(0, 0.012))
+            y += float(0.3 * (ahead[1] - y) + rng.normal(0, 0.012))
+            want = nav2_remaining(poses, start, 2.0, x, y)
+            got = progress.remaining(path, x, y)
+            assert (progress.closest, got) == want
+            start = progress.closest
