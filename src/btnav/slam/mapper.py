@@ -3,7 +3,9 @@
 Each processed scan becomes a node of the pose graph. Its pose is first predicted
 from the last node's correction and the odometry, then corrected by the sequential
 matcher against the running buffer (the last `scan_buffer_size` scans within
-`scan_buffer_maximum_scan_distance`). It is linked to the previous node, to the
+`scan_buffer_maximum_scan_distance`); a match with little support is searched again
+over the loop matcher's window (btnav's, for odometry wrong by more than the sequential
+window: `RESCUE_BELOW_RESPONSE`). It is linked to the previous node, to the
 closest scan of the running buffer and to every near chain of older scans that it
 matches well (`link_match_minimum_response_fine`); its pose becomes the
 covariance-weighted mean of those matches. Then loop closure: chains of at least
