@@ -49,6 +49,8 @@ _SLACK = 1e-9
 _RADIUS = 0.03
 #: Poses past the window's end a certificate also covers: the window moves on with its start.
 _AHEAD = 6
+#: Poses whose window end and length left are computed together (`_ahead`).
+_AHEAD_POSES = 8
 #: The certificate of no scan: (first, stop, x, y, radius², limit², near) covering no window.
 _NO_CERTIFICATE: tuple[Any, ...] = (1, 0, 0.0, 0.0, -1.0, 0.0, ())
 
@@ -109,8 +111,8 @@ class PathProgress:
         start = self.closest
         stop = self._stop.get(start)
         if stop is None:
-            end = self._window(start, self.search_window())
-            stop = self._stop[start] = min(end + 1, self._n)
+            self._ahead(start)
+            stop = self._stop[start]
         closest = -1
         first, last, cx, cy, radius_sq, limit_sq, near = self._certificate
         if first <= start and stop <= last:
@@ -132,9 +134,23 @@ class PathProgress:
                 closest = self._full_scan(start, stop, x, y)
         self.closest = closest
         remaining = self._length_from.get(closest)
-        if remaining is None:  # float(seg[closest:].sum()), without sum's Python wrapper
-            remaining = self._length_from[closest] = float(_add_reduce(self._seg[closest:]))
+        if remaining is None:
+            self._ahead(closest)
+            remaining = self._length_from[closest]
         return remaining
+
+    def _ahead(self, first: int) -> None:
+        """The window's end (one past it) and the length left for poses `first` to
+        `first + _AHEAD_POSES`: the robot moves on along the path, and these calls, cold
+        one at a time between the simulation's steps, run warm back to back."""
+        window = self.search_window()
+        n, seg = self._n, self._seg
+        stops, lengths = self._stop, self._length_from
+        for i in range(first, min(first + _AHEAD_POSES, n)):
+            if i not in stops:
+                stops[i] = min(self._window(i, window) + 1, n)
+            if i not in lengths:  # float(seg[i:].sum()), without sum's Python wrapper
+                lengths[i] = float(_add_reduce(seg[i:]))
 
     def _certify(self, start: int, stop: int, x: float, y: float) -> int:
         """`_full_scan`'s index, leaving a certificate for the searches that follow when
