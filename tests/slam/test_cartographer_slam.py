@@ -163,3 +163,29 @@ def test_the_map_is_published_to_subscribers_as_the_robot_drives():
     assert 3 <= len(maps) <= 4 and maps[-1].frame_id == "map"
     # walls hit by three scans are occupied (hit_probability 0.55 from 0.5 is 0.65 at the third)
     assert (maps[-1].data == 100).any()
+
+
+def test_a_wrong_loop_closure_pulls_only_as_hard_as_huber_lets_it():
+    """Huber's loss caps a closure's pull at huber_scale x its weight, however wrong it
+    is: every reweighting round weighs the closures by their own information (a round
+    that reweighed already reweighted information let a wrong closure pull ~70x harder)."""
+    from btnav.slam.cartographer_slam import CartographerMapper
+    from btnav.slam.submaps import Lattice, Submap
+
+    options = load_cartographer_config(LUA).pose_graph
+    mapper = CartographerMapper(options, False, [Submap(0, np.zeros(3), Lattice(0.05, 0.0, 0.0))])
+    mapper.anchors[0] = 0
+    g = mapper.graph
+    stiff = np.diag([1e10, 1e10, 1e10])
+    for k in range(10):
+        g.add_node([float(k), 0.0, 0.0])
+        if k:
+            g.add_edge(k - 1, k, [1.0, 0.0, 0.0], information=stiff)
+    w = options.constraint_builder.loop_closure_translation_weight
+    info = np.diag([w**2, w**2, options.constraint_builder.loop_closure_rotation_weight**2])
+    mapper.loop_edges.append(g.add_edge(0, 9, [14.0, 0.0, 0.0], information=info))  # 5 m wrong
+    mapper.optimize()
+    stretch = g.poses[9, 0] - 9.0
+    # the chain (9 edges of 1e10) stretched by the capped pull: huber_scale w / (1e10 / 9)
+    expected = options.optimization_problem.huber_scale * w / (1e10 / 9)
+    assert stretch == pytest.approx(expected, rel=0.05)

@@ -278,7 +278,7 @@ class CartographerMapper:
         symbolic = symbolic_factor(self.graph.num_nodes, i, j)  # one pattern for every round
         loops = np.array(self.loop_edges, dtype=np.int64)
         for _ in range(_HUBER_ROUNDS if len(loops) else 1):
-            weights = self._huber_weights(arrays, loops, opt.huber_scale)
+            weights = self._huber_weights(arrays["poses"], i[loops], j[loops], z[loops], info[loops], opt.huber_scale)  # fmt: skip
             arrays["information"] = info.copy()
             arrays["information"][loops] *= weights[:, None, None]
             arrays["poses"], _ = optimize_poses(arrays["poses"], i, j, z, arrays["information"], fixed=0, max_iterations=iterations, symbolic=symbolic)  # fmt: skip
@@ -288,15 +288,13 @@ class CartographerMapper:
         self.revision += 1
 
     @staticmethod
-    def _huber_weights(arrays: dict[str, Any], loops: NDArray[np.int64], scale: float) -> F64:
-        """rho'(s) of Ceres's HuberLoss at each loop closure's weighted squared residual."""
-        if not len(loops):
+    def _huber_weights(poses: F64, i: NDArray[np.int64], j: NDArray[np.int64], z: F64, info: F64, scale: float) -> F64:  # fmt: skip
+        """rho'(s) of Ceres's HuberLoss at each loop closure's weighted squared residual
+        (`info`: the closures' own information, never a previous round's reweighted one)."""
+        if not len(i):
             return np.ones(0)
-        p = arrays["poses"]
-        i, j = arrays["edge_i"][loops], arrays["edge_j"][loops]
-        r = relative_arrays(p[i], p[j]) - arrays["measurements"][loops]
+        r = relative_arrays(poses[i], poses[j]) - z
         r[:, 2] = normalize_angle(r[:, 2])
-        info = arrays["information"][loops]
         s = fmath.dot_rows(r, fmath.matmul_k(info, r[:, :, None])[:, :, 0])
         norm = np.sqrt(np.maximum(s, 0.0))
         return np.where(norm <= scale, 1.0, scale / np.maximum(norm, scale))
