@@ -184,3 +184,18 @@ def test_a_robot_wandering_about_a_sparse_winding_path_is_searched_as_nav2_does(
             got = progress.remaining(path, x, y)
             assert (progress.closest, got) == want
             start = progress.closest
+
+
+def test_a_changed_search_window_holds_from_the_next_path():
+    straight = np.stack([np.arange(0, 3, 0.05), np.zeros(60), np.zeros(60)], -1)
+    window = [2.0]
+    progress = PathProgress(lambda: window[0])
+    first = Path(0.0, straight)
+    progress.remaining(first, 0.0, 0.0)
+    window[0] = 0.5  # bt_navigator's params set again while a path is followed
+    progress.remaining(first, 1.0, 0.0)
+    progress.remaining(first, 2.9, 0.0)
+    assert progress.closest == 58  # the path's windows all 2 m long, as when it came
+    path = Path(0.0, straight.copy())
+    assert progress.remaining(path, 2.9, 0.0) == nav2_remaining(straight, 0, 0.5, 2.9, 0.0)[1]
+    assert progress.closest == 10  # the next path's window from pose 0 ends 0.5 m along

@@ -59,8 +59,10 @@ class PathProgress:
     """The closest pose and the length left along one path at a time (Nav2's feedback)."""
 
     def __init__(self, search_window: Callable[[], float]) -> None:
-        #: Nav2's `search_window` (m along the path), read each time a window is computed.
+        #: Nav2's `search_window` (m along the path), read once per path (Nav2 reads it
+        #: once, at configure), so the window ends kept per path never outlive its value.
         self.search_window = search_window
+        self._window_length = 0.0
         self.path: Path | None = None  # the path of the latest search (never an empty one)
         self.closest = 0  # index of the path pose closest to the robot
         self._n = 0  # the path's poses
@@ -92,6 +94,7 @@ class PathProgress:
         self._n = len(xy)
         self._px, self._py = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
         self._seg = seg = fmath.hypot(*np.diff(xy, axis=0).T) if len(xy) > 1 else np.zeros(0)
+        self._window_length = self.search_window()
         self._stop = {}
         self._length_from = {}
         self._certificate = _NO_CERTIFICATE
@@ -143,7 +146,7 @@ class PathProgress:
         """The window's end (one past it) and the length left for poses `first` to
         `first + _AHEAD_POSES`: the robot moves on along the path, and these calls, cold
         one at a time between the simulation's steps, run warm back to back."""
-        window = self.search_window()
+        window = self._window_length
         n, seg = self._n, self._seg
         stops, lengths = self._stop, self._length_from
         for i in range(first, min(first + _AHEAD_POSES, n)):
