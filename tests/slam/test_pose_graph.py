@@ -259,3 +259,26 @@ def test_a_3500_pose_manhattan_graph_converges():
     )
     info = np.broadcast_to(np.diag(1 / SIGMA**2), (i.size, 3, 3))
     assert report.final_error <= 1.05 * graph_error(theirs, i, j, z, info)
+
+
+def test_pop_edge_and_restore_poses_undo_a_closure_exactly():
+    """What `Mapper._close` relies on to take a loop closure back: the graph after
+    add_edge + optimize + pop_edge + restore_poses is the graph before, bit for bit."""
+    g = PoseGraph()
+    for k in range(5):
+        g.add_node((0.5 * k, 0.01 * k, 0.02 * k))
+    for k in range(4):
+        g.add_edge(k, k + 1, (0.5, 0.0, 0.0), np.diag([1e-3, 1e-3, 1e-4]))
+    before = g.to_arrays()
+    neighbours = [g.neighbours(k) for k in range(5)]
+    g.add_edge(0, 4, (1.5, 0.3, 0.1), np.diag([1e-3, 1e-3, 1e-4]))
+    g.optimize()
+    assert not np.array_equal(g.poses, before["poses"])
+    g.pop_edge()
+    g.restore_poses(before["poses"])
+    after = g.to_arrays()
+    for key in before:
+        assert np.array_equal(after[key], before[key]), key
+    assert [g.neighbours(k) for k in range(5)] == neighbours
+    with pytest.raises(IndexError):
+        PoseGraph().pop_edge()

@@ -45,6 +45,11 @@ F64 = NDArray[np.float64]
 RESCUE_BELOW_RESPONSE = 0.7
 #: ... and the wider search's match replaces it only when its response is higher by this.
 RESCUE_MARGIN = 0.1
+#: A loop closure is taken back when, optimised with it, the graph's error (the sum of
+#: r^T L r over the edges) is higher than before it by more than this: the closure's
+#: squared Mahalanobis distance from where the graph puts the node. Karto accepts every
+#: closure that passes the response and variance tests.
+LOOP_CLOSURE_MAX_ERROR_INCREASE = 60.0
 
 
 def relative(a: F64, b: F64) -> F64:
@@ -145,6 +150,8 @@ class Mapper:
         self.sequential = ScanMatcher(matcher_params(params, loop=False))
         self.loop = ScanMatcher(matcher_params(params, loop=True))
         self.loop_closures = 0
+        #: Loop closures Karto would accept that the graph refused (`_close`).
+        self.loop_closures_refused = 0
         #: Sequential matches searched again over the loop window, and those replaced.
         self.rescues_tried = 0
         self.rescues = 0
@@ -387,16 +394,33 @@ class Mapper:
                 and coarse.covariance[1, 1] < p.loop_match_maximum_variance_coarse
             ):
                 fine = self.sequential.match(points, coarse.pose, ref, penalize=False)
-                if fine.response >= p.loop_match_minimum_response_fine:
-                    self._set_pose(node, fine)
-                    self._link_chain(chain, node, fine.pose, fine.covariance)
-                    self.graph.optimize()
-                    self._pose_version += 1
-                    self.loop_closures += 1
-                    self.revision += 1
+                if fine.response >= p.loop_match_minimum_response_fine and self._close(
+                    node, chain, fine
+                ):
                     closed = True
             chain, start = self._next_loop_chain(node, start)
         return closed
+
+    def _close(self, node: int, chain: list[int], fine: MatchResult) -> bool:
+        """Karto's loop closure (the node moved to the match, linked to the chain, the
+        graph optimised), taken back when the optimised graph's error grew by more than
+        `LOOP_CLOSURE_MAX_ERROR_INCREASE` (btnav's, not Karto's: see there)."""
+        before = self.graph.poses.copy()
+        edges = self.graph.num_edges
+        error = self.graph.error()
+        self._set_pose(node, fine)
+        self._link_chain(chain, node, fine.pose, fine.covariance)
+        report = self.graph.optimize()
+        self._pose_version += 1
+        if report.final_error - error > LOOP_CLOSURE_MAX_ERROR_INCREASE:
+            while self.graph.num_edges > edges:
+                self.graph.pop_edge()
+            self.graph.restore_poses(before)
+            self.loop_closures_refused += 1
+            return False
+        self.loop_closures += 1
+        self.revision += 1
+        return True
 
     def _set_pose(self, node: int, match: MatchResult) -> None:
         poses = self.graph.poses.copy()

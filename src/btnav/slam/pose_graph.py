@@ -288,6 +288,25 @@ class PoseGraph:
         self._e += 1
         return k
 
+    def pop_edge(self) -> None:
+        """Remove the last edge added (a loop closure the mapper takes back)."""
+        if self._e == 0:
+            raise IndexError("the graph has no edge to remove")
+        self._e -= 1
+        k = self._e
+        i, j = int(self._i[k]), int(self._j[k])
+        self._adjacent[i].pop()
+        self._adjacent[j].pop()
+        self._i[k], self._j[k], self._z[k], self._info[k] = 0, 0, 0.0, 0.0
+
+    def restore_poses(self, poses: ArrayLike) -> None:
+        """Put back every node's pose exactly as `poses` (a copy of `poses` taken
+        earlier: no yaw wrapping, the same bits)."""
+        p = np.asarray(poses, dtype=np.float64)
+        if p.shape != (self._n, 3):
+            raise ValueError(f"poses must be of shape ({self._n}, 3), got {p.shape}")
+        self._poses[: self._n] = p
+
     # -- reading ----------------------------------------------------------------------
 
     @property
