@@ -153,3 +153,17 @@ def test_a_loop_closure_relates_the_poses_it_joins_far_from_the_origin(tmp_path)
     err = z - want
     assert np.hypot(err[:, 0], err[:, 1]).max() < 0.05
     assert np.abs(normalize_angle(err[:, 2])).max() < math.radians(1.0)
+
+
+def test_odometry_that_counts_reversing_as_forward_does_not_fold_the_path():
+    """FR079's odometry never moves backwards: the robot backs up and the odometry says
+    it drove ahead. Cartographer's 0.1 m real-time window and its Ceres pull towards the
+    prediction would follow the odometry; the wider search on a poor match does not."""
+    yaw = 0.3
+    s = np.r_[np.arange(0, 31) * 0.1, 3.0 - np.arange(1, 19) * 0.1]  # 3 m ahead, 1.8 m back
+    truth = np.column_stack([1.5 + s * math.cos(yaw), 1.2 + s * math.sin(yaw), np.full(len(s), yaw)])  # fmt: skip
+    travelled = np.r_[0.0, np.cumsum(np.abs(np.diff(s)))]  # |v|: always ahead
+    odom = np.column_stack([travelled * math.cos(yaw), travelled * math.sin(yaw), np.full(len(s), yaw)])  # fmt: skip
+    result = run_cartographer(synthetic_log(truth, odom), load_cartographer_config(LUA))
+    err = relative_arrays(result.poses[:1], result.poses) - relative_arrays(truth[:1], truth)
+    assert np.hypot(err[:, 0], err[:, 1]).max() < 0.05

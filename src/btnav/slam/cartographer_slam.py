@@ -6,7 +6,9 @@ frame (`RangeData.from_scan`), voxel filtered. Its pose is predicted (odometry s
 the last scan; without `use_odometry`, constant velocity, as Cartographer's pose
 extrapolator), searched by the real-time correlative matcher, refined by the Ceres
 cost against the older active submap. Scans the motion filter does not call similar
-are inserted into the active submaps and become nodes.
+are inserted into the active submaps and become nodes. One departure: a real-time match
+that scores poorly is searched again wider (`RESCUE_BELOW_SCORE`), for odometry that
+is wrong by more than the real-time window (FR079's, which counts reversing as forward).
 
 Global SLAM (`CartographerMapper`, Cartographer's PoseGraph2D): nodes are linked to the
 previous node (local SLAM's relative pose, and odometry's), to the submaps they were
@@ -27,6 +29,7 @@ processed, and `map -> odom` published so that map -> tracking frame is the esti
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -67,6 +70,17 @@ _HUBER_ROUNDS = 3
 LIVE_MAP_FREE = 0.5
 #: cartographer_ros's occupancy_grid_node publishes /map this often (its -publish_period_sec).
 MAP_PUBLISH_PERIOD = 1.0
+#: Not Cartographer's: when the real-time correlative match around the odometry's
+#: prediction scores below this (good ones 0.55-0.9), the prediction is searched again
+#: `RESCUE_LINEAR_WINDOW` metres and `RESCUE_ANGULAR_WINDOW` radians wide, and that match
+#: replaces it, as the Ceres refinement's translation target too, when it scores at least
+#: `RESCUE_MARGIN` more. FR079's odometry counts reversing as forward travel: Cartographer's
+#: prediction is then 2 x the step from the truth, beyond the 0.1 m window, and its Ceres
+#: cost pulls the pose back to the prediction.
+RESCUE_BELOW_SCORE = 0.55
+RESCUE_MARGIN = 0.15
+RESCUE_LINEAR_WINDOW = 1.0
+RESCUE_ANGULAR_WINDOW = 0.1
 
 
 def compose(a: F64, b: F64) -> F64:
@@ -114,6 +128,7 @@ class LocalTrajectoryBuilder:
         self.poses: list[tuple[float, F64, F64]] = []  # (stamp, local pose, odom pose), last two
         self.accumulated: list[tuple[F64, RangeData]] = []  # (odom pose, range data)
         self.filter_total = 0
+        self.rescued = 0  # predictions replaced by the wider search (RESCUE_BELOW_SCORE)
         self.last_inserted: tuple[float, F64] | None = None
 
     def predict(self, stamp: float, odom: F64) -> F64:
@@ -146,11 +161,17 @@ class LocalTrajectoryBuilder:
         submap = self.submaps.matching
         if submap is not None and len(returns):
             cloud = adaptive_voxel_filter(returns, o.adaptive_voxel_filter)
-            initial = pose
+            initial, target = pose, pose[:2]
             if o.use_online_correlative_scan_matching:
                 rt = o.real_time_correlative_scan_matcher
-                initial, _ = real_time_correlative_match(submap, cloud, pose, rt)
-            pose = ceres_match(submap, cloud, pose[:2], initial, o.ceres_scan_matcher)
+                initial, score = real_time_correlative_match(submap, cloud, pose, rt)
+                if score < RESCUE_BELOW_SCORE:  # not Cartographer's: see RESCUE_BELOW_SCORE
+                    wide = dataclasses.replace(rt, linear_search_window=RESCUE_LINEAR_WINDOW, angular_search_window=RESCUE_ANGULAR_WINDOW)  # fmt: skip
+                    found, better = real_time_correlative_match(submap, cloud, pose, wide)
+                    if better >= score + RESCUE_MARGIN:
+                        initial, target = found, found[:2]
+                        self.rescued += 1
+            pose = ceres_match(submap, cloud, target, initial, o.ceres_scan_matcher)
             pose[2] = normalize_angle(float(pose[2]))
         self.poses = [*self.poses[-1:], (stamp, pose, np.asarray(odom, float))]
         if self._similar(stamp, pose):
