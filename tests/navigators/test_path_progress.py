@@ -23,6 +23,14 @@ def nav2_remaining(poses: np.ndarray, start: int, window: float, x: float, y: fl
     return closest, float(seg[closest:].sum())
 
 
+def searched_as_nav2(progress: PathProgress, path: Path, start: int, window: float, x, y) -> int:
+    """One search from `start`: the closest pose and length left are Nav2's; returns the
+    closest pose, where the next search starts."""
+    got = progress.remaining(path, float(x), float(y))
+    assert (progress.closest, got) == nav2_remaining(path.poses, start, window, x, y)
+    return progress.closest
+
+
 def grid_path(rng: np.random.Generator) -> np.ndarray:
     """A NavFn-like path: half-cell steps along a random walk of straight legs."""
     steps = rng.choice([-1, 0, 1], size=(rng.integers(20, 200), 2)) * 0.025
@@ -54,10 +62,7 @@ def test_same_closest_pose_and_length_as_nav2s_computation(make):
             # the same position again (odometry at half the tree's rate) searches from
             # the pose the last search found, its window reaching further
             for _ in range(int(rng.integers(1, 4))):
-                want = nav2_remaining(poses, start, window, x, y)
-                got = progress.remaining(path, float(x), float(y))
-                assert (progress.closest, got) == want
-                start = progress.closest
+                start = searched_as_nav2(progress, path, start, window, x, y)
 
 
 def test_a_new_path_starts_from_its_first_pose():
@@ -99,10 +104,7 @@ def test_a_robot_moving_along_the_path_is_searched_as_nav2_does(make):
                 )
             else:
                 x, y = x + rng.normal(0, 0.01), y + rng.normal(0, 0.01)
-            want = nav2_remaining(poses, start, window, x, y)
-            got = progress.remaining(path, float(x), float(y))
-            assert (progress.closest, got) == want
-            start = progress.closest
+            start = searched_as_nav2(progress, path, start, window, x, y)
 
 
 def hairpin_path(rng: np.random.Generator) -> np.ndarray:
@@ -127,10 +129,7 @@ def test_a_robot_between_two_legs_of_a_hairpin_is_searched_as_nav2_does():
             # steps of a few cm in any direction, drifting along and across the legs
             x += float(rng.normal(0.008, 0.012))
             y = float(np.clip(y + rng.normal(0, 0.015), -0.05, 0.15))
-            want = nav2_remaining(poses, start, 2.0, x, y)
-            got = progress.remaining(path, x, y)
-            assert (progress.closest, got) == want
-            start = progress.closest
+            start = searched_as_nav2(progress, path, start, 2.0, x, y)
 
 
 def test_a_near_pose_left_behind_is_not_taken_for_the_closest():
@@ -152,11 +151,8 @@ def test_a_near_pose_left_behind_is_not_taken_for_the_closest():
     start = 0
     steps = [(0.0, 0.0, 0), (0.0299, 0.0, 1), (0.0299 * np.cos(turn), 0.0299 * np.sin(turn), 2)]
     for x, y, closest in steps:
-        want = nav2_remaining(poses, start, 2.0, x, y)
-        got = progress.remaining(path, float(x), float(y))
-        assert (progress.closest, got) == want
-        assert progress.closest == closest
-        start = progress.closest
+        start = searched_as_nav2(progress, path, start, 2.0, x, y)
+        assert start == closest
 
 
 def polyline_path(rng: np.random.Generator) -> np.ndarray:
@@ -180,10 +176,7 @@ def test_a_robot_wandering_about_a_sparse_winding_path_is_searched_as_nav2_does(
             ahead = poses[min(start + 1, len(poses) - 1), :2]
             x += float(0.3 * (ahead[0] - x) + rng.normal(0, 0.012))
             y += float(0.3 * (ahead[1] - y) + rng.normal(0, 0.012))
-            want = nav2_remaining(poses, start, 2.0, x, y)
-            got = progress.remaining(path, x, y)
-            assert (progress.closest, got) == want
-            start = progress.closest
+            start = searched_as_nav2(progress, path, start, 2.0, x, y)
 
 
 def test_a_changed_search_window_holds_from_the_next_path():
