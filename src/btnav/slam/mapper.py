@@ -4,8 +4,9 @@ Each processed scan becomes a node of the pose graph. Its pose is first predicte
 from the last node's correction and the odometry, then corrected by the sequential
 matcher against the running buffer (the last `scan_buffer_size` scans within
 `scan_buffer_maximum_scan_distance`); a match with little support is searched again
-over the loop matcher's window (btnav's, for odometry wrong by more than the sequential
-window: `RESCUE_BELOW_RESPONSE`). It is linked to the previous node, to the
+by the loop matcher, within twice the odometry's travel, and replaced by an unambiguous
+better match (btnav's, for odometry wrong by more than the sequential window:
+`RESCUE_BELOW_RESPONSE`). It is linked to the previous node, to the
 closest scan of the running buffer and to every near chain of older scans that it
 matches well (`link_match_minimum_response_fine`); its pose becomes the
 covariance-weighted mean of those matches. Then loop closure: chains of at least
@@ -21,8 +22,9 @@ graph nodes near the robot or over chains, never over points or cells.
 
 from __future__ import annotations
 
+import math
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,6 +47,20 @@ F64 = NDArray[np.float64]
 RESCUE_BELOW_RESPONSE = 0.7
 #: ... and the wider search's match replaces it only when its response is higher by this.
 RESCUE_MARGIN = 0.1
+#: The wider search reaches this many times the distance the odometry says the robot
+#: travelled since the last processed scan (plus the sequential window), not the loop
+#: window's +-4 m: odometry wrong in direction but right in distance (FR079's reversals)
+#: is off by at most twice the travel. Over +-4 m a scan in a corridor matches as well
+#: 1-4 m along it: on the Freiburg hospital, whose odometry is good to 8 cm per relation,
+#: 6 of its 10 replacements moved 1.1-3.7 m along corridors (relation errors 2-4 m).
+RESCUE_TRAVEL_FACTOR = 2.0
+#: ... and its coarse match must pass Karto's loop-closure tests (response above
+#: `loop_match_minimum_response_coarse`) and be unambiguous: the largest variance of its
+#: positional covariance (m^2, any direction) below this. FR079's replacements score
+#: 0.0012-0.023 m^2; the hospital's wrong ones 0.23-30 m^2 (a corridor matches as well
+#: anywhere along it; Karto's own `loop_match_maximum_variance_coarse`, 3 m^2 on x and y
+#: alone, lets 0.2-1 m^2 through).
+RESCUE_MAXIMUM_VARIANCE = 0.1
 #: A loop closure is taken back when, optimised with it, the graph's error (the sum of
 #: r^T L r over the edges) is higher than before it by more than this: the closure's
 #: squared Mahalanobis distance from where the graph puts the node. Karto accepts every
@@ -80,6 +96,14 @@ def weighted_mean(means: list[F64], covariances: list[F64]) -> F64:
     s = sum(fmath.sin(float(m[2])) for m in means) / len(means)
     c = sum(fmath.cos(float(m[2])) for m in means) / len(means)
     return np.array([xy[0], xy[1], fmath.arctan2(s, c)])
+
+
+def largest_variance(covariance: F64) -> float:
+    """The positional covariance's largest eigenvalue: the variance along the direction
+    the match is least sure of (a corridor's length), closed form (no LAPACK)."""
+    a, b, c = float(covariance[0, 0]), float(covariance[0, 1]), float(covariance[1, 1])
+    h = 0.5 * (a - c)
+    return 0.5 * (a + c) + math.sqrt(h * h + b * b)
 
 
 def _inv3(m: F64) -> F64:
@@ -149,6 +173,7 @@ class Mapper:
         self.running: list[int] = []
         self.sequential = ScanMatcher(matcher_params(params, loop=False))
         self.loop = ScanMatcher(matcher_params(params, loop=True))
+        self._rescue_matchers: dict[int, ScanMatcher] = {}
         self.loop_closures = 0
         #: Loop closures Karto would accept that the graph refused (`_close`).
         self.loop_closures_refused = 0
@@ -242,7 +267,9 @@ class Mapper:
             reference = self._reference(self.running)
             result = self.sequential.match(scan.points, pose, reference)
             if result.response < RESCUE_BELOW_RESPONSE:
-                result = self._rescue(scan.points, pose, reference, result)
+                d = relative(self.scans[-1].odom_pose, odom)
+                travel = float(np.sqrt(d[0] * d[0] + d[1] * d[1]))
+                result = self._rescue(scan.points, pose, reference, result, travel)
             pose, covariance = result.pose, result.covariance
         self.scans.append(scan)
         node = self.graph.add_node(pose)
@@ -255,19 +282,48 @@ class Mapper:
         return True
 
     def _rescue(
-        self, points: F64, guess: F64, reference: list[tuple[F64, F64]], result: MatchResult
+        self,
+        points: F64,
+        guess: F64,
+        reference: list[tuple[F64, F64]],
+        result: MatchResult,
+        travel: float,
     ) -> MatchResult:
         """A sequential match with little support, searched again as a loop closure is
-        (the loop matcher's coarse window, then the sequential matcher's fine search)
+        (the loop matcher's coarse search, over a window `RESCUE_TRAVEL_FACTOR` x the
+        odometry's `travel` wide each side, then the sequential matcher's fine search)
         against the same running scans; the better-supported of the two by at least
         `RESCUE_MARGIN` wins. btnav's, not Karto's: see `RESCUE_BELOW_RESPONSE`."""
         self.rescues_tried += 1
-        coarse = self.loop.match(points, guess, reference, penalize=False, refine=False)
+        coarse = self._rescue_matcher(travel).match(
+            points, guess, reference, penalize=False, refine=False
+        )
+        if (
+            coarse.response <= self.params.loop_match_minimum_response_coarse
+            or largest_variance(coarse.covariance) >= RESCUE_MAXIMUM_VARIANCE
+        ):
+            return result
         fine = self.sequential.match(points, coarse.pose, reference, penalize=False)
         if fine.response < result.response + RESCUE_MARGIN:
             return result
         self.rescues += 1
         return fine
+
+    def _rescue_matcher(self, travel: float) -> ScanMatcher:
+        """The loop matcher with its window cut to +-(`RESCUE_TRAVEL_FACTOR` x travel +
+        the sequential half window), in whole coarse steps; never wider than its own."""
+        p = self.params
+        step = 2.0 * p.loop_search_space_resolution  # the coarse lattice's spacing
+        reach = RESCUE_TRAVEL_FACTOR * travel + 0.5 * p.correlation_search_space_dimension
+        steps = math.ceil(reach / step - 1e-9)
+        if 2.0 * steps * step >= p.loop_search_space_dimension:
+            return self.loop
+        matcher = self._rescue_matchers.get(steps)
+        if matcher is None:
+            loop = matcher_params(p, loop=True)
+            matcher = ScanMatcher(replace(loop, search_space_dimension=2.0 * steps * step))
+            self._rescue_matchers[steps] = matcher
+        return matcher
 
     def _add_running(self, node: int) -> None:
         """Karto's AddRunningScan: cap the buffer by count and by span."""
