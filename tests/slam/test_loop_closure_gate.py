@@ -44,7 +44,7 @@ def test_a_closure_the_graph_cannot_hold_is_taken_back(drive):
     node = mapper.graph.num_nodes - 1
     poses, edges = mapper.graph.poses.copy(), mapper.graph.num_edges
     wrong = truth[node] + np.array([0.8, 0.0, 0.0])
-    assert not mapper._close(node, [0, 1, 2], closure(wrong))
+    assert not mapper._close(node, [([0, 1, 2], closure(wrong))])
     assert mapper.loop_closures == 0 and mapper.loop_closures_refused == 1
     assert mapper.graph.num_edges == edges
     assert np.array_equal(mapper.graph.poses, poses)  # bit for bit
@@ -59,7 +59,7 @@ def test_karto_would_have_taken_it(drive, monkeypatch):
     node = mapper.graph.num_nodes - 1
     edges, error = mapper.graph.num_edges, mapper.graph.error()
     wrong = truth[node] + np.array([0.8, 0.0, 0.0])
-    assert mapper._close(node, [0, 1, 2], closure(wrong))
+    assert mapper._close(node, [([0, 1, 2], closure(wrong))])
     assert mapper.graph.num_edges == edges + 1
     assert mapper.graph.error() - error > 100.0  # the default limit is 60
 
@@ -67,7 +67,49 @@ def test_karto_would_have_taken_it(drive, monkeypatch):
 def test_a_closure_that_agrees_with_the_graph_is_taken(drive):
     mapper, truth = drive
     node = mapper.graph.num_nodes - 1
-    assert mapper._close(node, [0, 1, 2], closure(truth[node]))
+    assert mapper._close(node, [([0, 1, 2], closure(truth[node]))])
     assert mapper.loop_closures == 1 and mapper.loop_closures_refused == 0
     d = mapper.poses[:, :2] - truth[:, :2]
     assert np.hypot(d[:, 0], d[:, 1]).max() < 0.05
+
+
+def _two_chains(mapper, monkeypatch, poses):
+    """The mapper's loop search at its last node made to find two chains whose loop
+    matches put the node at `poses` (one each), passing Karto's response tests."""
+    chains = [[0, 1, 2], [3, 4, 5]]
+
+    def next_chain(node, start):
+        return (chains[start], start + 1) if start < len(chains) else ([], start)
+
+    found = iter(poses)
+    monkeypatch.setattr(mapper, "_next_loop_chain", next_chain)
+    monkeypatch.setattr(mapper.loop, "match", lambda *a, **k: closure(mapper.graph.poses[-1]))
+    monkeypatch.setattr(mapper.sequential, "match", lambda *a, **k: closure(next(found)))
+
+
+def test_two_chains_that_agree_close_a_loop_the_error_test_alone_refuses(drive, monkeypatch):
+    """A robot back after a long drift: the right closure moves its node far, and the
+    graph's error rises as much as for a wrong one (Intel's node 941, moved 2.6 m). Two
+    chains from different passes that put the node in the same place are taken (both
+    edges); one alone is not."""
+    mapper, truth = drive
+    node = mapper.graph.num_nodes - 1
+    far = truth[node] + np.array([0.8, 0.0, 0.0])
+    _two_chains(mapper, monkeypatch, [far, far + np.array([0.05, 0.0, 0.01])])
+    edges = mapper.graph.num_edges
+    assert mapper._try_close_loop(node)
+    assert mapper.loop_closures == 2 and mapper.loop_closures_refused == 0
+    assert mapper.graph.num_edges == edges + 2
+    assert mapper.poses[node, 0] > truth[node, 0] + 0.05  # pulled towards them
+
+
+def test_two_chains_that_disagree_are_both_refused(drive, monkeypatch):
+    mapper, truth = drive
+    node = mapper.graph.num_nodes - 1
+    poses, edges = mapper.graph.poses.copy(), mapper.graph.num_edges
+    a, b = truth[node] + np.array([0.8, 0.0, 0.0]), truth[node] + np.array([0.8, 0.5, 0.0])
+    _two_chains(mapper, monkeypatch, [a, b])
+    assert not mapper._try_close_loop(node)
+    assert mapper.loop_closures == 0 and mapper.loop_closures_refused == 2
+    assert mapper.graph.num_edges == edges
+    assert np.array_equal(mapper.graph.poses, poses)
