@@ -93,3 +93,25 @@ def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed
     assert np.array_equal(score, search.scores(top, a, sx, sy))  # both ways of scoring agree
     for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
         assert search.groups(top, float(t))[score > t].all()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_group_bound_below_the_top_never_drops_a_candidate_that_could_win(seed):
+    from btnav.slam.fast_correlative_matcher import _Search
+
+    rng = np.random.default_rng(10 + seed)
+    submap = _submap(rng, (160, 160))
+    m = FastCorrelativeScanMatcher(submap, 4)
+    points = rng.uniform(-4.0, 4.0, (50, 2))
+    initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
+    angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
+    rows, cols = _point_cells(submap, points, initial[:2], angles)
+    search = _Search(m, rows, cols, 20)
+    top = len(m.levels) - 1
+    search.groups(top, 0.0)
+    for depth in sorted(search.group_grids)[:-1]:  # the levels below the top
+        steps = np.arange(search.lattice(depth))
+        a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
+        score = search.score(search.sums(depth, a, sx, sy))
+        for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
+            assert search.group_bound(depth, a, sx, sy, float(t))[score > t].all()

@@ -13,10 +13,12 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
 - A candidate is (heading, column step, row step) on its level's lattice: offset
   `step * 2^d - n` cells, n the window's half width in cells. Its children are the
   four sub-blocks at the next level whose offsets stay inside the window.
-- Above the top level, headings are bounded 8 at a time (`_Search.groups`: a point's
-  cells over 8 neighbouring headings fit in a box 8 cells wide, and one extra grid holds
-  the top level's maximum over such boxes); top-level candidates whose group cannot
-  beat `min_score` are never scored. What survives is every candidate that could.
+- Headings are bounded 8 at a time before they are scored one by one (`_Search.groups`:
+  a point's cells over 8 neighbouring headings fit in a box 8 cells wide, and an extra
+  grid per level holds the level's maximum over such boxes): top-level candidates whose
+  group cannot beat `min_score`, and children of the next two levels whose group and
+  block cannot beat the best so far (`_Search.group_bound`), are never scored. What is
+  dropped could not have won, so every level keeps the same survivors.
 - The bound starts at `min_score`, is raised by a beam dive (the best few coarse
   candidates carried down level by level to single cells), then every level's
   survivors (bound above the best score so far) are expanded together.
@@ -26,7 +28,8 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
   candidate. Candidates come sorted by heading, so the indices are the points' column
   of each heading repeated over its run (points x candidates: the sum runs down
   columns). Lookups go in batches that stay in cache; indices are int32. The margins
-  cost memory: ~12 MB a finished submap of Intel's (650 x 690 cells) instead of ~3.
+  and group grids cost memory: ~16 MB a finished submap of Intel's (650 x 690 cells)
+  instead of ~3.
 """
 
 from __future__ import annotations
@@ -48,6 +51,9 @@ _LOOKUPS = 1 << 17
 _BEAM = 4
 #: Headings bounded together above the top level (see `_Search.groups`).
 _GROUP = 8
+#: The levels from the top down whose children are bounded by heading group first
+#: (`_Search.group_bound`; one extra grid each per submap).
+_GROUP_LEVELS = 3
 #: A block's four sub-blocks, in Cartographer's order: steps added to (2 x, 2 y).
 _QUAD_X, _QUAD_Y = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
 
@@ -83,7 +89,8 @@ class FastCorrelativeScanMatcher:
             p = self.pad
             self.levels = [np.pad(g[p : p + h, p : p + w], margin, mode="edge") for g in self.levels]
             self.pad = margin
-            self.group_grid = _window_max(self.levels[-1], _GROUP).reshape(-1)
+            top = len(self.levels) - 1
+            self.group_grids = {d: _window_max(self.levels[d], _GROUP).reshape(-1) for d in range(max(top - _GROUP_LEVELS + 1, 0), top + 1)}  # fmt: skip
         return [g.reshape(-1) for g in self.levels], self.shape[1] + 2 * margin
 
     def match(
@@ -120,6 +127,9 @@ class FastCorrelativeScanMatcher:
             if depth == 0 or not len(a):
                 break
             a, sx, sy = search.children(depth, a, sx, sy)
+            if depth - 1 in search.group_grids:
+                maybe = search.group_bound(depth - 1, a, sx, sy, best_score)
+                a, sx, sy = a[maybe], sx[maybe], sy[maybe]
             score = search.score(search.sums(depth - 1, a, sx, sy))
         if len(a):
             k = int(np.argmax(score))
@@ -152,7 +162,7 @@ class _Search:
         self.base = base
         self.r, self.c = r, c
         self.dead = (h + margin) * width + (w + margin)  # reads 0 at every step
-        self.group_grid = matcher.group_grid
+        self.group_grids = matcher.group_grids
         self.base_t = np.ascontiguousarray(base.T)  # (points, headings)
         self.width, self.n = width, n
         self.num_points = rows.shape[1]
@@ -198,13 +208,28 @@ class _Search:
         r0, c0 = r.min(axis=1), c.min(axis=1)
         wide = (r.max(axis=1) - r0 > _GROUP) | (c.max(axis=1) - c0 > _GROUP)
         base = np.where(wide, self.dead, r0 * self.width + c0).astype(np.int32)
+        self.group_base_t = np.ascontiguousarray(base.T)  # (points, groups)
+        self.group_wide = 255 * wide.sum(axis=1, dtype=np.int32)
         s = np.arange(steps, dtype=np.int32) << top
         offset = (s[:, None] * self.width + s[None, :]).ravel()
         idx = base[:, None, :] + offset[None, :, None]  # (groups, steps^2, points)
-        sums = np.take(self.group_grid, idx).sum(axis=2, dtype=np.int32)
-        sums += 255 * wide.sum(axis=1, dtype=np.int32)[:, None]
+        sums = np.take(self.group_grids[top], idx).sum(axis=2, dtype=np.int32)
+        sums += self.group_wide[:, None]
         ok = self.score(sums) > min_score
         return np.repeat(ok, _GROUP, axis=0)[:num].ravel()
+
+    def group_bound(self, depth: int, a: I64, sx: I64, sy: I64, best: float) -> NDArray[np.bool_]:
+        """Which candidates at `depth` (below the top) can score above `best`, bounded as
+        `groups` does, once for each heading group and block they share (a level's
+        survivors come ~8 headings to a block)."""
+        steps = self.lattice(depth)
+        key = (a // _GROUP * steps + sy) * steps + sx
+        keys, which = np.unique(key, return_inverse=True)  # sorted: group-major
+        g, ky, kx = keys // (steps * steps), keys // steps % steps, keys % steps
+        idx = np.repeat(self.group_base_t, np.bincount(g, minlength=self.group_base_t.shape[1]), axis=1)  # fmt: skip
+        idx += ((ky * self.width + kx) << depth).astype(np.int32)
+        sums = np.take(self.group_grids[depth], idx).sum(axis=0, dtype=np.int32) + self.group_wide[g]
+        return (self.score(sums) > best)[which.reshape(-1)]
 
     def score(self, sums: NDArray[np.integer]) -> F64:
         """Scores (mean probability) of summed grid values."""
