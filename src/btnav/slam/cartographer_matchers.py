@@ -127,8 +127,11 @@ def real_time_correlative_match(
     h, w = grid.shape
     top = np.minimum(np.maximum(rows - n - r0, 0), h - size)
     left = np.minimum(np.maximum(cols - n - c0, 0), w - size)
-    window = (np.arange(size)[:, None] * w + np.arange(size)).reshape(size, size, 1, 1)
-    sums = grid.reshape(-1)[window + (top * w + left)].sum(axis=3, dtype=np.int64)  # (dy, dx, A)
+    base = (top * w + left).astype(np.int32)  # (A, N); a row of the window at a time:
+    flat, dx = grid.reshape(-1), np.arange(size, dtype=np.int32)[:, None, None]
+    sums = np.empty((size, size, len(angles)), np.int32)  # (dy, dx, A): below 2^31
+    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
+        sums[dy] = np.take(flat, base + (dx + dy * w)).sum(axis=2, dtype=np.int32)
     score = _mean_probability(sums.transpose(2, 0, 1), len(points))
     offsets = (np.arange(size) - n) * res
     dist = fmath.hypot(offsets[:, None], offsets[None, :])
@@ -157,13 +160,16 @@ def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
     grid, r0, c0 = submap.scoring(4)
     lat = submap.lattice
     inv = 1.0 / lat.resolution
-    u = (xy[:, 0] - lat.x0) * inv - c0  # cell centres at whole numbers
-    v = (xy[:, 1] - lat.y0) * inv - r0
+    # cell centres at whole numbers, counted from 4 cells outside the grid (the border
+    # scoring guarantees; it may be wider: the lookups are moved into it after)
+    b0, a0 = submap.row0 - 4, submap.col0 - 4
+    u = (xy[:, 0] - lat.x0) * inv - a0
+    v = (xy[:, 1] - lat.y0) * inv - b0
     j, i = np.floor(u), np.floor(v)
     tu, tv = u - j, v - i
     h, w = grid.shape
-    top = np.minimum(np.maximum(i.astype(np.int64) - 1, 0), h - 4)
-    left = np.minimum(np.maximum(j.astype(np.int64) - 1, 0), w - 4)
+    top = np.minimum(np.maximum(i.astype(np.int64) - 1, 0), h - 2 * (b0 - r0) - 4) + (b0 - r0)
+    left = np.minimum(np.maximum(j.astype(np.int64) - 1, 0), w - 2 * (a0 - c0) - 4) + (a0 - c0)
     flat = _NEIGHBOURS[w] if w in _NEIGHBOURS else _NEIGHBOURS.setdefault(w, (np.arange(4)[:, None] * w + np.arange(4)).reshape(16, 1))  # fmt: skip
     f = grid.reshape(-1)[flat + (top * w + left)] * _PROBABILITY_STEP
     f = f.reshape(4, 4, -1)  # (row, col, N), less a constant that the weights sum away

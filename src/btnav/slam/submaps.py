@@ -42,6 +42,8 @@ I64 = NDArray[np.int64]
 MIN_PROBABILITY, MAX_PROBABILITY = 0.1, 0.9
 #: The largest cell value; values 1..MAX_VALUE spread [MIN_PROBABILITY, MAX_PROBABILITY].
 MAX_VALUE = 32767
+#: The narrowest border `Submap.scoring` pads with (the matchers ask for 4 and 2 n + 1).
+SCORING_BORDER = 8
 UNKNOWN = 0
 #: Cells added around a grid when it grows, so that growth is rare.
 _GROW = 64
@@ -208,7 +210,11 @@ class Submap:
     def scoring(self, border: int) -> tuple[NDArray[np.uint16], int, int]:
         """The grid for matching: unknown read as the lowest value (probability 0.1, as
         Cartographer scores it), inside a border of `border` such cells (lookups that
-        fall off the grid are clipped into it); and the lattice cell of its [0, 0]."""
+        fall off the grid are clipped into it); and the lattice cell of its [0, 0]. The
+        border is at least `SCORING_BORDER`, so the real-time matcher and the Ceres
+        matcher share one copy per insertion (a wider border of the lowest value reads
+        the same: a clipped lookup lands in it either way)."""
+        border = max(border, SCORING_BORDER)
         cached = self._scoring_cache.get(border)
         if cached is None or cached[0] != self.revision:
             padded = np.pad(np.maximum(self.values, 1), border, constant_values=1)

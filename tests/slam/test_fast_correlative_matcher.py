@@ -1,0 +1,117 @@
+"""The loop-closure search's branch and bound finds the exhaustive search's best candidate."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from btnav.slam.cartographer_matchers import _SPAN, _headings, _point_cells, angular_step
+from btnav.slam.fast_correlative_matcher import FastCorrelativeScanMatcher
+from btnav.slam.submaps import MAX_VALUE, MIN_PROBABILITY, Lattice, Submap
+
+RES = 0.05
+
+
+def _submap(rng: np.random.Generator, shape: tuple[int, int]) -> Submap:
+    """Walls (high values) over noise and unknown cells (0), as a finished submap."""
+    s = Submap(0, np.zeros(3), Lattice(RES, 0.0, 0.0))
+    values = rng.integers(0, MAX_VALUE // 3, shape).astype(np.uint16)
+    values[rng.random(shape) < 0.3] = 0
+    for _ in range(6):
+        r, c = rng.integers(0, shape[0]), rng.integers(0, shape[1])
+        values[r, c : c + 40] = MAX_VALUE
+        values[r : r + 40, c] = MAX_VALUE - rng.integers(0, 5000)
+    s.values, s.row0, s.col0 = values, -7, 5
+    s.finished = True
+    return s
+
+
+def _exhaustive(m: FastCorrelativeScanMatcher, level0: np.ndarray, points, initial, lw, aw):
+    """Every candidate's score at single cells, lookups clipped into the grid: (scores
+    (headings, dy, dx), n, angles)."""
+    angles = _headings(float(initial[2]), aw, angular_step(points, RES))
+    rows, cols = _point_cells(m.submap, points, initial[:2], angles)
+    n = math.ceil(lw / RES)
+    h, w = level0.shape
+    d = np.arange(-n, n + 1)
+    r = np.clip(rows[:, None, None, :] + d[None, :, None, None] - m.row0, 0, h - 1)
+    c = np.clip(cols[:, None, None, :] + d[None, None, :, None] - m.col0, 0, w - 1)
+    sums = level0[r, c].sum(axis=-1, dtype=np.int64)
+    return MIN_PROBABILITY + sums / len(points) * (_SPAN / 255.0), n, angles
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_branch_and_bound_finds_the_exhaustive_best(seed):
+    rng = np.random.default_rng(seed)
+    submap = _submap(rng, (120, 150))
+    m = FastCorrelativeScanMatcher(submap, 4)
+    level0 = m.levels[0].copy()
+    points = rng.uniform(-2.5, 2.5, (int(rng.integers(20, 60)), 2))
+    # near the grid's middle, and half off its edge (clipped lookups, the margins)
+    centre = np.array([submap.col0 * RES + rng.uniform(0, 7.5), submap.row0 * RES + rng.uniform(0, 6.0)])  # fmt: skip
+    initial = np.array([*centre, rng.uniform(-math.pi, math.pi)])
+    scores, n, angles = _exhaustive(m, level0, points, initial, 0.5, 0.15)
+    best = float(scores.max())
+    found = m.match(points, initial, 0.5, 0.15, min_score=0.2)
+    assert found is not None and found[1] == best
+    pose = found[0]
+    a = int(np.flatnonzero(angles == pose[2])[0])
+    dx, dy = round((pose[0] - initial[0]) / RES) + n, round((pose[1] - initial[1]) / RES) + n
+    assert scores[a, dy, dx] == best
+    # nothing above the bound: none; a second search of the same submap agrees
+    assert m.match(points, initial, 0.5, 0.15, min_score=best) is None
+    again = m.match(points, initial, 0.5, 0.15, min_score=0.2)
+    assert again is not None and again[1] == best and np.array_equal(again[0], pose)
+
+
+def test_a_search_off_the_submap_finds_nothing():
+    rng = np.random.default_rng(7)
+    m = FastCorrelativeScanMatcher(_submap(rng, (60, 60)), 3)
+    points = rng.uniform(-1.0, 1.0, (30, 2))
+    assert m.match(points, np.array([40.0, -30.0, 0.3]), 0.4, 0.1, min_score=0.11) is None
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed):
+    """Every top-level candidate scoring above a threshold is in a group kept at it."""
+    from btnav.slam.fast_correlative_matcher import _Search
+
+    rng = np.random.default_rng(seed)
+    submap = _submap(rng, (160, 160))
+    m = FastCorrelativeScanMatcher(submap, 4)
+    points = rng.uniform(-4.0, 4.0, (50, 2))
+    initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
+    angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
+    rows, cols = _point_cells(submap, points, initial[:2], angles)
+    search = _Search(m, rows, cols, 20)
+    top = len(m.levels) - 1
+    steps = np.arange(search.lattice(top))
+    a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
+    score = search.score(search.sums(top, a, sx, sy))
+    assert np.array_equal(score, search.scores(top, a, sx, sy))  # both ways of scoring agree
+    for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
+        assert search.groups(top, float(t))[score > t].all()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_group_bound_below_the_top_never_drops_a_candidate_that_could_win(seed):
+    from btnav.slam.fast_correlative_matcher import _Search
+
+    rng = np.random.default_rng(10 + seed)
+    submap = _submap(rng, (160, 160))
+    m = FastCorrelativeScanMatcher(submap, 4)
+    points = rng.uniform(-4.0, 4.0, (50, 2))
+    initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
+    angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
+    rows, cols = _point_cells(submap, points, initial[:2], angles)
+    search = _Search(m, rows, cols, 20)
+    top = len(m.levels) - 1
+    search.groups(top, 0.0)
+    for depth in sorted(search.group_grids)[:-1]:  # the levels below the top
+        steps = np.arange(search.lattice(depth))
+        a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
+        score = search.score(search.sums(depth, a, sx, sy))
+        for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
+            assert search.group_bound(depth, a, sx, sy, float(t))[score > t].all()
