@@ -87,7 +87,9 @@ class FastCorrelativeScanMatcher:
         if self.pad != margin:
             h, w = self.shape
             p = self.pad
-            self.levels = [np.pad(g[p : p + h, p : p + w], margin, mode="edge") for g in self.levels]
+            self.levels = [
+                np.pad(g[p : p + h, p : p + w], margin, mode="edge") for g in self.levels
+            ]
             self.pad = margin
             top = len(self.levels) - 1
             self.group_grids = {d: _window_max(self.levels[d], _GROUP).reshape(-1) for d in range(max(top - _GROUP_LEVELS + 1, 0), top + 1)}  # fmt: skip
@@ -203,7 +205,8 @@ class _Search:
         group (a point whose box is wider counts 255)."""
         num, steps = len(self.r), self.lattice(top)
         groups = -(-num // _GROUP)
-        fill = np.minimum(np.arange(groups * _GROUP), num - 1)  # the last group: its last heading again
+        # the last group is filled up with its last heading again
+        fill = np.minimum(np.arange(groups * _GROUP), num - 1)
         r, c = self.r[fill].reshape(groups, _GROUP, -1), self.c[fill].reshape(groups, _GROUP, -1)
         r0, c0 = r.min(axis=1), c.min(axis=1)
         wide = (r.max(axis=1) - r0 > _GROUP) | (c.max(axis=1) - c0 > _GROUP)
@@ -228,7 +231,9 @@ class _Search:
         g, ky, kx = keys // (steps * steps), keys // steps % steps, keys % steps
         idx = np.repeat(self.group_base_t, np.bincount(g, minlength=self.group_base_t.shape[1]), axis=1)  # fmt: skip
         idx += ((ky * self.width + kx) << depth).astype(np.int32)
-        sums = np.take(self.group_grids[depth], idx).sum(axis=0, dtype=np.int32) + self.group_wide[g]
+        sums = (
+            np.take(self.group_grids[depth], idx).sum(axis=0, dtype=np.int32) + self.group_wide[g]
+        )
         return (self.score(sums) > best)[which.reshape(-1)]
 
     def score(self, sums: NDArray[np.integer]) -> F64:
