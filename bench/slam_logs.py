@@ -35,7 +35,7 @@ The other logs of the family (ACES, MIT CSAIL, MIT Killian Court, Freiburg 079, 
 Freiburg hospital) run the same way; their relations file is found beside the log as
 `<name>.relations`, with `name` the file name up to its first dot or underscore
 (`fr-clinic_robotlaser.orig.bag` -> `fr-clinic.relations`). When some relations span
-more than a minute (the hospital's global ones, start to end of a 400 m tour), the
+more than a minute (the hospital's global ones, start and end of a 1400 m tour), the
 errors over the local ones (t2 - t1 <= 60 s) are printed too, as Kümmerle et al. report
 the hospital. A log whose clock is not the relations' (no relation within 50 ms of a
 scan) says so instead of printing NaN.
