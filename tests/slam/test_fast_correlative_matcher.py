@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from btnav.slam.cartographer_matchers import _SPAN, _headings, _point_cells, angular_step
-from btnav.slam.fast_correlative_matcher import FastCorrelativeScanMatcher
+from btnav.slam.fast_correlative_matcher import FastCorrelativeScanMatcher, _Search
 from btnav.slam.submaps import MAX_VALUE, MIN_PROBABILITY, Lattice, Submap
 
 RES = 0.05
@@ -73,11 +73,9 @@ def test_a_search_off_the_submap_finds_nothing():
     assert m.match(points, np.array([40.0, -30.0, 0.3]), 0.4, 0.1, min_score=0.11) is None
 
 
-@pytest.mark.parametrize("seed", range(4))
-def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed):
-    """Every top-level candidate scoring above a threshold is in a group kept at it."""
-    from btnav.slam.fast_correlative_matcher import _Search
-
+def _search(seed: int) -> tuple[_Search, int, np.ndarray]:
+    """One search of 50 random points over a random 160 x 160 submap, 20 cells wide:
+    (the search, its top level, its headings)."""
     rng = np.random.default_rng(seed)
     submap = _submap(rng, (160, 160))
     m = FastCorrelativeScanMatcher(submap, 4)
@@ -85,8 +83,13 @@ def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed
     initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
     angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
     rows, cols = _point_cells(submap, points, initial[:2], angles)
-    search = _Search(m, rows, cols, 20)
-    top = len(m.levels) - 1
+    return _Search(m, rows, cols, 20), len(m.levels) - 1, angles
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed):
+    """Every top-level candidate scoring above a threshold is in a group kept at it."""
+    search, top, angles = _search(seed)
     steps = np.arange(search.lattice(top))
     a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
     score = search.score(search.sums(top, a, sx, sy))
@@ -97,17 +100,7 @@ def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed
 
 @pytest.mark.parametrize("seed", range(3))
 def test_the_group_bound_below_the_top_never_drops_a_candidate_that_could_win(seed):
-    from btnav.slam.fast_correlative_matcher import _Search
-
-    rng = np.random.default_rng(10 + seed)
-    submap = _submap(rng, (160, 160))
-    m = FastCorrelativeScanMatcher(submap, 4)
-    points = rng.uniform(-4.0, 4.0, (50, 2))
-    initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
-    angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
-    rows, cols = _point_cells(submap, points, initial[:2], angles)
-    search = _Search(m, rows, cols, 20)
-    top = len(m.levels) - 1
+    search, top, angles = _search(10 + seed)
     search.groups(top, 0.0)
     for depth in sorted(search.group_grids)[:-1]:  # the levels below the top
         steps = np.arange(search.lattice(depth))

@@ -15,13 +15,11 @@ import math
 
 import numpy as np
 
-from btnav.core.messages import LaserScan
-from btnav.params.localization import SlamToolboxParams
 from btnav.slam import mapper as mapper_module
 from btnav.slam.logs import RecordedLog
-from btnav.slam.offline import run_slam
 
-from .test_scan_matcher import BEAMS, RANGE_MAX, box, cast_ranges, polyline
+from .test_mapper_odometry_errors import node_errors
+from .test_scan_matcher import BEAMS, box, cast_ranges, laser_scan, polyline
 
 SPEED = 0.5  # m/s
 RATE = 10.0  # scans per second
@@ -40,7 +38,6 @@ def corridor_log() -> tuple[RecordedLog, np.ndarray]:
     n = len(x)
     truth = np.column_stack([x, np.full(n, -0.3), np.zeros(n)])
     stamps = np.arange(n) / RATE
-    inc = 2 * math.pi / BEAMS
     scans = []
     rng = np.random.default_rng(0)
     for t, p in zip(stamps, truth, strict=True):
@@ -50,33 +47,19 @@ def corridor_log() -> tuple[RecordedLog, np.ndarray]:
         if PUSHED_AT <= t < PUSHED_AT + CROWD_FOR:
             crowd = rng.random(BEAMS) < CROWD
             ranges = np.where(crowd, rng.uniform(0.3, 0.9, BEAMS), ranges)
-        scans.append(
-            LaserScan(
-                float(t),
-                "laser",
-                angle_min=-math.pi,
-                angle_max=-math.pi + (BEAMS - 1) * inc,
-                angle_increment=inc,
-                range_min=0.1,
-                range_max=RANGE_MAX,
-                ranges=ranges.astype(np.float32),
-            )
-        )
+        scans.append(laser_scan(t, ranges))
     log = RecordedLog("corridor", scans, stamps, truth.copy(), duration=float(stamps[-1]))
     return log, truth
 
 
-def node_errors() -> tuple[np.ndarray, int]:
-    log, truth = corridor_log()
-    result = run_slam(log, SlamToolboxParams(max_laser_range=RANGE_MAX), trajectory="odometry")
-    stamps = np.array([s.stamp for s in log.scans])
-    at = np.searchsorted(stamps, [s.stamp for s in result.mapper.scans])
-    d = result.mapper.poses[:, :2] - truth[at, :2]
-    return np.hypot(d[:, 0], d[:, 1]), result.mapper.rescues_tried
+def corridor_errors() -> tuple[np.ndarray, int]:
+    """Each processed scan's distance from the truth, and the wider searches tried."""
+    errors, mapper = node_errors(*corridor_log())
+    return errors, mapper.rescues_tried
 
 
 def test_a_moved_cart_does_not_slide_the_map_along_the_corridor():
-    errors, tried = node_errors()
+    errors, tried = corridor_errors()
     assert tried >= 1  # the push (and the crowd) did make a poorly supported match
     # Karto's own +-0.25 m sequential window still shifts a few scans along the corridor
     # while the running scans hold the cart in both places
@@ -88,5 +71,5 @@ def test_over_the_loop_window_the_same_drive_slides(monkeypatch):
     match 2 m along the corridor wins and the map slides."""
     monkeypatch.setattr(mapper_module, "RESCUE_TRAVEL_FACTOR", 100.0)
     monkeypatch.setattr(mapper_module, "RESCUE_MAXIMUM_VARIANCE", math.inf)
-    errors, _ = node_errors()
+    errors, _ = corridor_errors()
     assert errors.max() > 1.2, errors

@@ -11,6 +11,7 @@ import pytest
 from btnav.core import fmath
 from btnav.core.errors import ParamsError
 from btnav.core.geometry import Pose2D, angle_diff
+from btnav.core.messages import LaserScan
 from btnav.slam import correlation_grid
 from btnav.slam.correlation_grid import (
     CorrelationGrid,
@@ -25,6 +26,21 @@ BEAMS = 360
 
 
 # -- a small analytic world -----------------------------------------------------------
+
+
+def laser_scan(stamp: float, ranges: np.ndarray) -> LaserScan:
+    """A scan of the tests' full-circle lidar (BEAMS beams from -pi, out to RANGE_MAX)."""
+    inc = 2 * math.pi / BEAMS
+    return LaserScan(
+        float(stamp),
+        "laser",
+        angle_min=-math.pi,
+        angle_max=-math.pi + (BEAMS - 1) * inc,
+        angle_increment=inc,
+        range_min=0.1,
+        range_max=RANGE_MAX,
+        ranges=np.asarray(ranges, np.float32),
+    )
 
 
 def polyline(*pts: tuple[float, float]) -> np.ndarray:
@@ -389,7 +405,6 @@ def test_scans_between_processed_scans_are_matched_not_dead_reckoned():
     processed scans before and after it, so an odometry glitch between them (0.15 m and
     3 degrees for a few scans, as the Intel log's bursty stamps make) does not reach its
     pose; slam_toolbox's map -> odom times the odometry carries it."""
-    from btnav.core.messages import LaserScan
     from btnav.params.localization import SlamToolboxParams
     from btnav.slam.logs import RecordedLog
     from btnav.slam.offline import odometry_trajectory, run_slam
@@ -400,20 +415,7 @@ def test_scans_between_processed_scans_are_matched_not_dead_reckoned():
     odom = truth.copy()
     glitch = np.arange(n)[(stamps > 2.55) & (stamps < 2.95)]
     odom[glitch] += (0.15, 0.0, math.radians(3.0))
-    inc = 2 * math.pi / BEAMS
-    geometry = dict(angle_min=-math.pi, angle_max=-math.pi + (BEAMS - 1) * inc)
-    scans = [
-        LaserScan(
-            float(t),
-            "laser",
-            **geometry,
-            angle_increment=inc,
-            range_min=0.1,
-            range_max=RANGE_MAX,
-            ranges=cast_ranges(ROOM, tuple(p)).astype(np.float32),
-        )
-        for t, p in zip(stamps, truth, strict=True)
-    ]
+    scans = [laser_scan(t, cast_ranges(ROOM, tuple(p))) for t, p in zip(stamps, truth, strict=True)]
     log = RecordedLog("synthetic", scans, stamps, odom, duration=float(stamps[-1]))
     params = SlamToolboxParams(max_laser_range=RANGE_MAX)
     result = run_slam(log, params)

@@ -78,6 +78,8 @@ class FastCorrelativeScanMatcher:
             )
             self.levels.append(level)
         self.pad = 0  # the levels' margin of clipped lookups (`padded`)
+        #: level -> its maximum over heading-group boxes, flat (`padded` builds them)
+        self.group_grids: dict[int, NDArray[np.uint8]] = {}
 
     def padded(self, n: int) -> tuple[list[NDArray[np.uint8]], int]:
         """The levels, flat, each inside a margin of 2 n + 1 cells that read as a clipped
