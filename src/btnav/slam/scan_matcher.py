@@ -43,7 +43,13 @@ from btnav.core.geometry import normalize_angle
 
 from .correlation_grid import GRID_OCCUPIED, CorrelationGrid, karto_round
 
-__all__ = ["MatchResult", "MatcherParams", "ScanMatcher", "scan_reference_pose"]
+__all__ = [
+    "COVARIANCE_WINDOW",
+    "MatchResult",
+    "MatcherParams",
+    "ScanMatcher",
+    "scan_reference_pose",
+]
 
 F64 = NDArray[np.float64]
 
@@ -55,8 +61,9 @@ KT_TOLERANCE = 1e-6
 #: use_response_expansion widens the coarse angle window by this much, up to 3 times.
 _EXPANSION_STEP = math.radians(20.0)
 _EXPANSIONS = 3
-#: responses within this much of the best count toward the covariances.
-_COVARIANCE_WINDOW = 0.1
+#: responses within this much of the best count toward the covariances (Karto's
+#: equally good poses).
+COVARIANCE_WINDOW = 0.1
 
 
 def _round(v: float) -> int:
@@ -366,7 +373,7 @@ class ScanMatcher:
             cov[2, 2] = 4.0 * p.coarse_angle_resolution**2
             return cov
         probs = search.response.max(axis=0)  # (T, T): y, x
-        near = probs >= best - _COVARIANCE_WINDOW
+        near = probs >= best - COVARIANCE_WINDOW
         w = probs[near]
         norm = w.sum()
         if norm > KT_TOLERANCE:
@@ -405,7 +412,7 @@ class ScanMatcher:
         response = sums / float(pts.shape[0] * GRID_OCCUPIED)
         centre_heading = float(fine.centre[2])
         best_angle = centre_heading + normalize_angle(fine.mean[2] - centre_heading)
-        near = response >= fine.best - _COVARIANCE_WINDOW
+        near = response >= fine.best - COVARIANCE_WINDOW
         norm = response[near].sum()
         if norm <= KT_TOLERANCE:
             return 1000.0 * angle_step * angle_step
