@@ -56,7 +56,7 @@ from .cartographer_matchers import (
 )
 from .cartographer_options import CartographerConfig, TrajectoryBuilder2D
 from .cartographer_options import PoseGraph as PoseGraphOptions
-from .fast_correlative_matcher import FastCorrelativeScanMatcher
+from .fast_correlative_matcher import FastCorrelativeScanMatcher, match_batch
 from .pose_graph import PoseGraph, optimize_poses, symbolic_factor
 from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 
@@ -245,16 +245,13 @@ class CartographerMapper:
         if finished:  # the node against every finished submap near it: one array pass
             anchors = self.graph.poses[[self.anchors[i] for i in finished]]
             rel = relative_arrays(anchors, np.broadcast_to(self.graph.poses[n], anchors.shape))
-            for k in self._within(rel):
-                self._maybe_add_constraint(n, finished[k], rel[k])
+            self._add_constraints([(n, finished[k], rel[k]) for k in self._within(rel)])
         if ins.finished is not None:
             index = ins.finished.index
             self.matchers[index] = FastCorrelativeScanMatcher(ins.finished, o.constraint_builder.fast_correlative_scan_matcher.branch_and_bound_depth)  # fmt: skip
             inside = set(ins.finished.node_ids)
             rel = relative_arrays(self.submap_pose(index)[None, :], self.graph.poses)
-            for m in self._within(rel):
-                if m not in inside:
-                    self._maybe_add_constraint(m, index, rel[m])
+            self._add_constraints([(m, index, rel[m]) for m in self._within(rel) if m not in inside])  # fmt: skip
         self.since_optimization += 1
         if o.optimize_every_n_nodes > 0 and self.since_optimization >= o.optimize_every_n_nodes:
             self.optimize()
@@ -265,26 +262,33 @@ class CartographerMapper:
         d2 = rel[:, 0] ** 2 + rel[:, 1] ** 2
         return np.flatnonzero(d2 <= self.o.constraint_builder.max_constraint_distance**2).tolist()
 
-    def _maybe_add_constraint(self, n: int, index: int, rel: F64) -> None:
-        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for node n and a finished
-        submap, `rel` the node in the submap's frame (within max_constraint_distance)."""
+    def _add_constraints(self, pairs: list[tuple[int, int, F64]]) -> None:
+        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for each (node, finished
+        submap, the node in the submap's frame within max_constraint_distance), in turn:
+        the submap's sampler, then the fast correlative search (all of them together:
+        `match_batch`; the poses they start from hold until the next optimisation), the
+        Ceres refinement and the loop closure, in the same order."""
         cb = self.o.constraint_builder
-        sampler = self.samplers.setdefault(index, [0, 0])
-        sampler[0] += 1
-        if sampler[1] / sampler[0] >= cb.sampling_ratio:  # Cartographer's FixedRatioSampler
-            return
-        sampler[1] += 1
-        submap, node = self.submaps[index], self.scans[n]
         fast = cb.fast_correlative_scan_matcher
-        initial = compose(submap.local_pose, rel)
-        found = self.matchers[index].match(node.points, initial, fast.linear_search_window, fast.angular_search_window, cb.min_score)  # fmt: skip
-        if found is None:
-            return
-        pose = ceres_match(submap, node.points, found[0][:2], found[0], cb.ceres_scan_matcher)  # fmt: skip
-        a = self.anchors[index]
+        searched = []
+        for n, index, rel in pairs:
+            sampler = self.samplers.setdefault(index, [0, 0])
+            sampler[0] += 1
+            if sampler[1] / sampler[0] >= cb.sampling_ratio:  # Cartographer's FixedRatioSampler
+                continue
+            sampler[1] += 1
+            initial = compose(self.submaps[index].local_pose, rel)
+            searched.append((n, index, initial))
+        queries = [(self.matchers[index], self.scans[n].points, initial) for n, index, initial in searched]  # fmt: skip
+        found = match_batch(queries, fast.linear_search_window, fast.angular_search_window, cb.min_score)  # fmt: skip
         info = _information(cb.loop_closure_translation_weight, cb.loop_closure_rotation_weight)
-        self.loop_edges.append(self.graph.add_edge(a, n, relative(self.scans[a].local_pose, pose), information=info))  # fmt: skip
-        self.loop_closures += 1
+        for (n, index, _), f in zip(searched, found, strict=True):
+            if f is None:
+                continue
+            pose = ceres_match(self.submaps[index], self.scans[n].points, f[0][:2], f[0], cb.ceres_scan_matcher)  # fmt: skip
+            a = self.anchors[index]
+            self.loop_edges.append(self.graph.add_edge(a, n, relative(self.scans[a].local_pose, pose), information=info))  # fmt: skip
+            self.loop_closures += 1
 
     def optimize(self, max_iterations: int | None = None) -> None:
         """Solve the graph (node 0 fixed), Huber on loop closures by reweighted least squares."""
