@@ -94,13 +94,25 @@ def _headings(centre: float, window: float, step: float) -> F64:
 def _point_cells(submap: Submap, points: F64, pose_xy: F64, angles: F64) -> tuple[I64, I64]:
     """(A, N) lattice cells of the points turned to each heading and moved to `pose_xy`."""
     s, c = fmath.sincos(angles)
+    s, c = s[:, None], c[:, None]
     x, y = points[:, 0][None, :], points[:, 1][None, :]
-    wx = c[:, None] * x - s[:, None] * y + pose_xy[0]
-    wy = s[:, None] * x + c[:, None] * y + pose_xy[1]
     lat = submap.lattice
     inv = 1.0 / lat.resolution
-    rows = np.floor((wy - lat.y0) * inv + 0.5).astype(np.int64)
-    cols = np.floor((wx - lat.x0) * inv + 0.5).astype(np.int64)
+    # in place, these steps: ((c x - s y + pose x) - lattice x0) inv + 0.5, floored
+    v, t = c * x, s * y
+    v -= t
+    v += pose_xy[0]
+    v -= lat.x0
+    v *= inv
+    v += 0.5
+    cols = np.floor(v, out=v).astype(np.int64)
+    np.multiply(s, x, out=v)
+    v += np.multiply(c, y, out=t)
+    v += pose_xy[1]
+    v -= lat.y0
+    v *= inv
+    v += 0.5
+    rows = np.floor(v, out=v).astype(np.int64)
     return rows, cols
 
 
@@ -115,7 +127,14 @@ def _mean_probability(sums: NDArray[np.integer], n: int) -> F64:
 def real_time_correlative_match(
     submap: Submap, points: F64, prediction: F64, options: RealTimeCorrelativeScanMatcher
 ) -> tuple[F64, float]:
-    """The best candidate around `prediction` (local frame) and its score."""
+    """The best candidate around `prediction` (local frame) and its score: the first in
+    (heading, row, column) order among equals.
+
+    In a small window every heading is bounded first: its points' maxima over the window
+    (`_window_max` over the part of the grid the scan covers: one lookup a point, not one
+    per offset) give a sum no offset exceeds, times its best cost factor. The headings
+    with the highest bounds are scored, then every heading whose bound reaches the best
+    score so far; the others cannot hold the best candidate (nor tie it)."""
     res = submap.lattice.resolution
     angles = _headings(
         float(prediction[2]), options.angular_search_window, angular_step(points, res)
@@ -127,12 +146,7 @@ def real_time_correlative_match(
     h, w = grid.shape
     top = np.minimum(np.maximum(rows - n - r0, 0), h - size)
     left = np.minimum(np.maximum(cols - n - c0, 0), w - size)
-    base = (top * w + left).astype(np.int32)  # (A, N); a row of the window at a time:
-    flat, dx = grid.reshape(-1), np.arange(size, dtype=np.int32)[:, None, None]
-    sums = np.empty((size, size, len(angles)), np.int32)  # (dy, dx, A): below 2^31
-    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
-        sums[dy] = np.take(flat, base + (dx + dy * w)).sum(axis=2, dtype=np.int32)
-    score = _mean_probability(sums.transpose(2, 0, 1), len(points))
+    base = (top * w + left).astype(np.int32)  # (A, N)
     offsets = (np.arange(size) - n) * res
     dist = fmath.hypot(offsets[:, None], offsets[None, :])
     turn = np.abs(angles - prediction[2])
@@ -140,10 +154,65 @@ def real_time_correlative_match(
         dist[None, :, :] * options.translation_delta_cost_weight
         + turn[:, None, None] * options.rotation_delta_cost_weight
     )
-    score = score * fmath.exp(-(cost * cost))
+    weight = fmath.exp(-(cost * cost))  # (A, dy, dx)
+    score = np.full(weight.shape, -np.inf)
+    flat = grid.reshape(-1)
+
+    def evaluate(pick: I64) -> None:
+        score[pick] = _score_headings(pick, base, flat, w, size) * weight[pick]
+
+    if size > _BOUND_MAX_SIZE:  # a wide window's bounds are too loose to rule much out
+        evaluate(np.arange(len(angles)))
+    else:
+        t0, l0 = int(top.min()), int(left.min())
+        peak = _window_max(grid[t0 : int(top.max()) + size, l0 : int(left.max()) + size], size)
+        at = (top - t0) * peak.shape[1] + (left - l0)
+        bound = _mean_probability(np.take(peak.reshape(-1), at).sum(axis=1, dtype=np.int32), len(points))  # fmt: skip
+        bound = bound * weight.reshape(len(angles), -1).max(axis=1)
+        first = np.sort(np.argsort(-bound, kind="stable")[:_FIRST_HEADINGS])
+        evaluate(first)
+        rest = bound >= score.max()
+        rest[first] = False
+        if rest.any():
+            evaluate(np.flatnonzero(rest))
     a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
     pose = np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]])
     return pose, float(score[a, i, j])
+
+
+def _score_headings(pick: I64, base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, size: int) -> F64:  # fmt: skip
+    """Mean probabilities (headings, dy, dx) of the headings `pick`: the window's cells
+    from each point's `base` index in the flat grid `w` wide."""
+    b = base[pick]
+    sums = np.empty((size, size, len(pick)), np.int32)  # (dy, dx, A): below 2^31
+    dx = np.arange(size, dtype=np.int32)[:, None, None]
+    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
+        sums[dy] = np.take(flat, b + (dx + dy * w)).sum(axis=2, dtype=np.int32)
+    return _mean_probability(sums.transpose(2, 0, 1), base.shape[1])
+
+
+def _window_max(grid: NDArray[np.uint16], size: int) -> NDArray[np.uint16]:
+    """The maximum over each size x size window inside `grid`, at the window's first
+    cell: (rows - size + 1, cols - size + 1). Windows doubled (log2 size passes an axis),
+    the last two overlapping."""
+    out = grid
+    for axis in (0, 1):
+        m = np.moveaxis(out, axis, 0)
+        width, p = 1, m
+        while 2 * width <= size:
+            p = np.maximum(p[:-width], p[width:])
+            width *= 2
+        keep = m.shape[0] - size + 1
+        out = np.moveaxis(np.maximum(p[:keep], p[size - width : size - width + keep]), 0, axis)
+    return out
+
+
+#: Headings the real-time matcher scores first (the highest bounds), for a best score
+#: that rules out the others.
+_FIRST_HEADINGS = 4
+#: The widest window (cells) whose headings are bounded first: a window of s x s offsets
+#: costs s^2 lookups a point and the bound one, but wide windows' bounds rule out little.
+_BOUND_MAX_SIZE = 9
 
 
 #: Catmull-Rom weights of samples -1, 0, 1, 2 as cubics in t (rows: t^0, t^1, t^2, t^3).
