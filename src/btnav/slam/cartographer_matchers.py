@@ -222,18 +222,19 @@ _CUBIC = np.array(
 _PROBABILITY_STEP = _SPAN / (MAX_VALUE - 1)
 
 
-def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
-    """Probability at points and, up to `order`, its derivatives per metre (x, y; then xx,
-    xy, yy): Catmull-Rom in both axes (ceres::BiCubicInterpolator's kernel); off the
-    grid it is 0.1 and flat. Arrays are laid out (..., N) so every sum runs over rows."""
+def _bicubic(submap: Submap, x: F64, y: F64) -> tuple[F64, F64]:
+    """Probability at points (x, y) and its derivatives per metre (x, y, xx, xy, yy; rows
+    of a (5, N) array): Catmull-Rom in both axes (ceres::BiCubicInterpolator's kernel);
+    off the grid it is 0.1 and flat. Arrays are laid out (..., N) so every sum runs over
+    rows (in the same order, one multiply-and-sum for all the weights at once)."""
     grid, r0, c0 = submap.scoring(4)
     lat = submap.lattice
     inv = 1.0 / lat.resolution
     # cell centres at whole numbers, counted from 4 cells outside the grid (the border
     # scoring guarantees; it may be wider: the lookups are moved into it after)
     b0, a0 = submap.row0 - 4, submap.col0 - 4
-    u = (xy[:, 0] - lat.x0) * inv - a0
-    v = (xy[:, 1] - lat.y0) * inv - b0
+    u = (x - lat.x0) * inv - a0
+    v = (y - lat.y0) * inv - b0
     j, i = np.floor(u), np.floor(v)
     tu, tv = u - j, v - i
     h, w = grid.shape
@@ -243,20 +244,27 @@ def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
     f = grid.reshape(-1)[flat + (top * w + left)] * _PROBABILITY_STEP
     f = f.reshape(4, 4, -1)  # (row, col, N), less a constant that the weights sum away
     k0, k1, k2, k3 = _CUBIC[:, :, None]
-    wu, wv = k0 + tu * (k1 + tu * (k2 + tu * k3)), k0 + tv * (k1 + tv * (k2 + tv * k3))
-    fx = (f * wu).sum(axis=1)  # (4, N): each row interpolated in x
+    # the weights of the columns (u) and rows (v): value, first and second derivative
+    wu = np.empty((3, 4, len(x)))
+    wv = np.empty((3, 4, len(x)))
+    for t, out in ((tu, wu), (tv, wv)):
+        out[0] = k0 + t * (k1 + t * (k2 + t * k3))
+        out[1] = k1 + t * (2.0 * k2 + 3.0 * t * k3)
+        out[2] = 2.0 * k2 + 6.0 * t * k3
+    fu = (f[None] * wu[:, None]).sum(axis=2)  # (3, 4, N): each row interpolated in x
+    # value, d/dx, d/dy, d2/dx2, d2/dxdy, d2/dy2
+    m = (fu[_ROWS_U] * wv[_ROWS_V]).sum(axis=1)
     base = MIN_PROBABILITY - _PROBABILITY_STEP  # value 1 is probability 0.1
-    out: tuple[F64, ...] = ((fx * wv).sum(axis=0) + base,)
-    if order >= 1:
-        du, dv = k1 + tu * (2.0 * k2 + 3.0 * tu * k3), k1 + tv * (2.0 * k2 + 3.0 * tv * k3)
-        fdx = (f * du).sum(axis=1)
-        out += ((fdx * wv).sum(axis=0) * inv, (fx * dv).sum(axis=0) * inv)
-    if order >= 2:
-        ddu, ddv = 2.0 * k2 + 6.0 * tu * k3, 2.0 * k2 + 6.0 * tv * k3
-        inv2 = inv * inv
-        fxx = ((f * ddu).sum(axis=1) * wv).sum(axis=0)
-        out += (fxx * inv2, (fdx * dv).sum(axis=0) * inv2, (fx * ddv).sum(axis=0) * inv2)
-    return out
+    inv2 = inv * inv
+    grads = np.empty((5, len(x)))
+    grads[:2] = m[1:3] * inv
+    grads[2:] = m[3:] * inv2
+    return m[0] + base, grads
+
+
+#: Which x-weights (value, first, second derivative) and y-weights make the value and
+#: each derivative of the bicubic surface.
+_ROWS_U, _ROWS_V = np.array([0, 1, 0, 2, 1, 0]), np.array([0, 0, 1, 0, 1, 2])
 
 
 _NEIGHBOURS: dict[int, I64] = {}
@@ -276,43 +284,41 @@ def ceres_match(
     target = np.array([float(target_xy[0]), float(target_xy[1]), float(initial[2])])
     pw = np.array([w.translation_weight, w.translation_weight, w.rotation_weight])
     px, py = points[:, 0], points[:, 1]
+    prior_hess = np.diag(pw * pw)
 
-    def evaluate(x: F64, order: int) -> tuple[float, F64, F64]:
+    def evaluate(x: F64) -> tuple[float, F64, F64]:
         s, c = fmath.sincos(float(x[2]))
         rx, ry = c * px - s * py, s * px + c * py  # the points turned, before the shift
-        d = _bicubic(submap, np.column_stack([rx + x[0], ry + x[1]]), order)
-        r = a * (1.0 - d[0])
+        p, (gx, gy, gxx, gxy, gyy) = _bicubic(submap, rx + x[0], ry + x[1])
+        r = a * (1.0 - p)
         prior = pw * (x - target)
         cost = float((r * r).sum()) + float((prior * prior).sum())
-        if order == 0:
-            return cost, np.zeros((3, 3)), np.zeros(3)
-        gx, gy, gxx, gxy, gyy = d[1:]
         tx, ty = -ry, rx  # d(point)/d(theta)
-        j = [-a * gx, -a * gy, -a * (gx * tx + gy * ty)]
+        jac = np.empty((3, len(r)))
+        jac[0], jac[1], jac[2] = -a * gx, -a * gy, -a * (gx * tx + gy * ty)
         # r d2r: -a r times the second derivative of P along the pose's parameters
-        ar = -a * r
-        second = [
-            [gxx, gxy, gxx * tx + gxy * ty],
-            [gxy, gyy, gxy * tx + gyy * ty],
-            [None, None, gxx * tx * tx + 2.0 * gxy * tx * ty + gyy * ty * ty - gx * rx - gy * ry],
-        ]
-        hess = np.empty((3, 3))
-        for k in range(3):
-            for m in range(k, 3):
-                hess[k, m] = hess[m, k] = float((j[k] * j[m] + ar * second[k][m]).sum())
-        hess += np.diag(pw * pw)
-        grad = np.array([float((jk * r).sum()) for jk in j]) + prior * pw
+        second = np.empty((6, len(r)))  # the Hessian's upper triangle, row by row
+        second[0], second[1], second[3] = gxx, gxy, gyy
+        second[2], second[4] = gxx * tx + gxy * ty, gxy * tx + gyy * ty
+        second[5] = gxx * tx * tx + 2.0 * gxy * tx * ty + gyy * ty * ty - gx * rx - gy * ry
+        terms = jac[_UPPER_K] * jac[_UPPER_M]
+        terms += (-a * r) * second
+        upper = terms.sum(axis=1)
+        hess = upper[_SYMMETRIC] + prior_hess
+        grad = (jac * r).sum(axis=1) + prior * pw
         return cost, hess, grad
 
     x = np.asarray(initial, float).copy()
-    cost, hess, grad = evaluate(x, 2)
+    cost, hess, grad = evaluate(x)
     mu = 0.0
     for _ in range(w.max_num_iterations):
-        step = _solve3(hess + mu * np.diag(np.abs(np.diag(hess))), -grad)
+        damped = hess.copy()  # hess + mu diag(|diag(hess)|)
+        damped[_K3, _K3] += mu * np.abs(hess[_K3, _K3])
+        step = _solve3(damped, -grad)
         if step is None:
             mu = max(10.0 * mu, 1e-3)
             continue
-        trial = evaluate(x + step, 2)  # the derivatives come with the cost: no extra pass
+        trial = evaluate(x + step)  # the derivatives come with the cost: no extra pass
         if trial[0] < cost:
             done = cost - trial[0] <= 1e-6 * cost
             x = x + step
@@ -323,6 +329,13 @@ def ceres_match(
         else:
             mu = max(10.0 * mu, 1e-3)
     return x
+
+
+#: The Hessian's upper triangle (0,0) (0,1) (0,2) (1,1) (1,2) (2,2), and the full 3 x 3
+#: from it.
+_UPPER_K, _UPPER_M = np.array([0, 0, 0, 1, 1, 2]), np.array([0, 1, 2, 1, 2, 2])
+_SYMMETRIC = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+_K3 = np.arange(3)
 
 
 def _solve3(m: F64, b: F64) -> F64 | None:
