@@ -71,7 +71,7 @@ _GROUP = 8
 _GROUP_LEVELS = 3
 #: The candidates around the initial pose scored first (`_Batch.near`): offsets up to
 #: this many cells and headings up to this many steps each way.
-_NEAR_CELLS, _NEAR_HEADINGS = 3, 3
+_NEAR_CELLS, _NEAR_HEADINGS = 1, 1
 #: The points are scored in this many parts (every third point, from the first, second,
 #: third), each child's running sum plus its parent's sums of the parts still to come
 #: bounding it (`_Batch.run`).
@@ -344,6 +344,7 @@ class _Batch:
         `bounds[m + 1]` are matcher m's); `cols` sorted."""
         sums = np.empty(len(cols), np.int32)
         batch = max(1, _LOOKUPS // base_t.shape[0])
+        acc = np.uint16 if base_t.shape[0] <= 257 else np.int32  # 257 x 255 < 2^16
         at = np.searchsorted(cols, bounds)
         for m in range(len(bounds) - 1):
             grid = grids[m]
@@ -353,7 +354,7 @@ class _Batch:
                 lo, hi = int(c[0]), int(c[-1]) + 1
                 idx = np.repeat(base_t[:, lo:hi], np.bincount(c - lo, minlength=hi - lo), axis=1)
                 idx += offset[j:k]
-                sums[j:k] = np.take(grid, idx).sum(axis=0, dtype=np.int32)
+                sums[j:k] = np.take(grid, idx).sum(axis=0, dtype=acc)
         return sums
 
     def sums(self, depth: int, a: I64, sx: I64, sy: I64, part: int | None = None) -> I32:
