@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from btnav.core.errors import BtnavWarning
+from btnav.core.geometry import relative_arrays
 from btnav.core.messages import Twist
 from btnav.maps.occupancy_grid import OccupancyGrid
 from btnav.nav.runtime import Runtime
@@ -189,3 +190,49 @@ def test_a_wrong_loop_closure_pulls_only_as_hard_as_huber_lets_it():
     # the chain (9 edges of 1e10) stretched by the capped pull: huber_scale w / (1e10 / 9)
     expected = options.optimization_problem.huber_scale * w / (1e10 / 9)
     assert stretch == pytest.approx(expected, rel=0.05)
+
+
+def test_one_wrong_loop_closure_among_right_ones_is_outvoted_within_one_solve():
+    """Ceres applies the Huber loss at every iteration of its one solve: a closure 1 m
+    wrong among right ones around a square is weighed down as the solve goes, and the
+    map stays where the right ones put it (least squares would split the difference)."""
+    from btnav.slam.cartographer_slam import CartographerMapper, optimize_huber
+    from btnav.slam.submaps import Lattice, Submap
+
+    options = load_cartographer_config(LUA).pose_graph
+    mapper = CartographerMapper(options, False, [Submap(0, np.zeros(3), Lattice(0.05, 0.0, 0.0))])
+    mapper.anchors[0] = 0
+    g = mapper.graph
+    # 16 poses round a 4 m square, headings along the way; the odometry drifts
+    side = np.repeat(np.arange(4), 4)
+    k = np.arange(16) % 4
+    truth = np.zeros((16, 3))
+    corner = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]])
+    heading = np.array([0.0, np.pi / 2, np.pi, -np.pi / 2])
+    step = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+    truth[:, :2] = corner[side] + step[side] * k[:, None]
+    truth[:, 2] = heading[side]
+    rng = np.random.default_rng(0)
+    for n in range(16):
+        g.add_node(truth[n] + np.array([0.02, -0.015, 0.004]) * n)
+    rel = lambda a, b: relative_arrays(truth[[a]], truth[[b]])[0]  # noqa: E731
+    local = options.optimization_problem.local_slam_pose_translation_weight**2
+    for n in range(1, 16):  # local SLAM's relative poses, a millimetre off
+        g.add_edge(n - 1, n, rel(n - 1, n) + rng.normal(0.0, [1e-3, 1e-3, 1e-4]), information=np.eye(3) * local)  # fmt: skip
+    w = options.constraint_builder.loop_closure_translation_weight
+    info = np.diag([w**2, w**2, options.constraint_builder.loop_closure_rotation_weight**2])
+    for a, b in [(0, 15), (0, 14), (1, 15), (3, 13), (4, 12), (5, 11), (2, 6)]:
+        mapper.loop_edges.append(g.add_edge(a, b, rel(a, b), information=info))
+    wrong = rel(8, 0) + np.array([1.0, 0.0, 0.0])  # node 0 seen 1 m from where it is
+    mapper.loop_edges.append(g.add_edge(8, 0, wrong, information=info))
+    start = g.poses.copy()
+    mapper.optimize()
+    error = np.hypot(*(relative_arrays(g.poses[[0]], g.poses) - relative_arrays(truth[[0]], truth))[:, :2].T)  # fmt: skip
+    assert error.max() < 0.005
+    # the wrong closure is left 1 m off: weighed down, not split with the right ones
+    assert np.hypot(*(relative_arrays(g.poses[[8]], g.poses[[0]])[0] - wrong)[:2]) > 0.99
+    # plain least squares (no loss) on the same graph lets it pull the map by centimetres
+    i, j, z, inf = g.edges
+    plain = optimize_huber(start, i, j, z, inf, np.zeros(0, np.int64), 1.0, 50)
+    off = np.hypot(*(relative_arrays(plain[[0]], plain) - relative_arrays(truth[[0]], truth))[:, :2].T)  # fmt: skip
+    assert off.max() > 0.03

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from btnav.slam.cartographer_matchers import _SPAN, _headings, _point_cells, angular_step
-from btnav.slam.fast_correlative_matcher import FastCorrelativeScanMatcher, _Search
+from btnav.slam.fast_correlative_matcher import FastCorrelativeScanMatcher, _Batch, match_batch
 from btnav.slam.submaps import MAX_VALUE, MIN_PROBABILITY, Lattice, Submap
 
 RES = 0.05
@@ -73,38 +73,76 @@ def test_a_search_off_the_submap_finds_nothing():
     assert m.match(points, np.array([40.0, -30.0, 0.3]), 0.4, 0.1, min_score=0.11) is None
 
 
-def _search(seed: int) -> tuple[_Search, int, np.ndarray]:
-    """One search of 50 random points over a random 160 x 160 submap, 20 cells wide:
-    (the search, its top level, its headings)."""
+def _batch(seed: int) -> tuple[_Batch, int]:
+    """One search of 50 random points over a random 160 x 160 submap, 20 cells wide, as
+    a batch of one: (the batch, its top level)."""
     rng = np.random.default_rng(seed)
     submap = _submap(rng, (160, 160))
     m = FastCorrelativeScanMatcher(submap, 4)
     points = rng.uniform(-4.0, 4.0, (50, 2))
     initial = np.array([submap.col0 * RES + 4.0, submap.row0 * RES + 4.0, rng.uniform(-3, 3)])
-    angles = _headings(float(initial[2]), 0.3, angular_step(points, RES))
-    rows, cols = _point_cells(submap, points, initial[:2], angles)
-    return _Search(m, rows, cols, 20), len(m.levels) - 1, angles
+    return _Batch([(m, points, initial)], 1.0, 0.3), len(m.levels) - 1
+
+
+def _all(batch: _Batch, depth: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every candidate of a level: (heading, step x, step y), heading-major."""
+    steps = np.arange(batch.lattice(depth))
+    a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(batch.search)), steps, steps, indexing="ij"))  # fmt: skip
+    return a, sx, sy
 
 
 @pytest.mark.parametrize("seed", range(4))
 def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed):
-    """Every top-level candidate scoring above a threshold is in a group kept at it."""
-    search, top, angles = _search(seed)
-    steps = np.arange(search.lattice(top))
-    a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
-    score = search.score(search.sums(top, a, sx, sy))
-    assert np.array_equal(score, search.scores(top, a, sx, sy))  # both ways of scoring agree
-    for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
-        assert search.groups(top, float(t))[score > t].all()
+    """Every top-level candidate reaching a sum is in a group kept at it."""
+    batch, top = _batch(seed)
+    a, sx, sy = _all(batch, top)
+    total = batch.sums(top, a, sx, sy)
+    parts = sum(batch.sums(top, a, sx, sy, k) for k in range(len(batch.parts)))
+    assert np.array_equal(total, parts)  # the points' parts add up to all of them
+    for t in np.quantile(total, [0.0, 0.5, 0.9, 0.99]).astype(int):
+        assert batch.groups(top, np.array([t]))[total >= t].all()
 
 
 @pytest.mark.parametrize("seed", range(3))
 def test_the_group_bound_below_the_top_never_drops_a_candidate_that_could_win(seed):
-    search, top, angles = _search(10 + seed)
-    search.groups(top, 0.0)
-    for depth in sorted(search.group_grids)[:-1]:  # the levels below the top
-        steps = np.arange(search.lattice(depth))
-        a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
-        score = search.score(search.sums(depth, a, sx, sy))
-        for t in np.quantile(score, [0.0, 0.5, 0.9, 0.99]) - 1e-12:
-            assert search.group_bound(depth, a, sx, sy, float(t))[score > t].all()
+    batch, top = _batch(10 + seed)
+    batch.groups(top, np.array([0]))
+    for depth in sorted(batch.group_grids[0])[:-1]:  # the levels below the top
+        a, sx, sy = _all(batch, depth)
+        total = batch.sums(depth, a, sx, sy)
+        for t in np.quantile(total, [0.0, 0.5, 0.9, 0.99]).astype(int):
+            batch.group_need[:] = t
+            assert batch.group_bound(depth, a, sx, sy, np.array([t]))[total >= t].all()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_parent_bounds_each_part_of_its_childrens_points(seed):
+    """What pruning by parts rests on: at every level, each part of the points sums to
+    at least what it sums to at any child below."""
+    batch, top = _batch(20 + seed)
+    for depth in range(top, 0, -1):
+        a, sx, sy = _all(batch, depth)
+        ca, cx, cy, parent = batch.children(depth, a, sx, sy)
+        for k in range(len(batch.parts)):
+            above = batch.sums(depth, a, sx, sy, k)
+            below = batch.sums(depth - 1, ca, cx, cy, k)
+            assert (below <= above[parent]).all()
+
+
+def test_searches_together_find_what_each_finds_alone():
+    """A batch of searches over three submaps, points of different counts (a search
+    with fewer points reads 0 for the rest), gives each search's own answer."""
+    rng = np.random.default_rng(3)
+    matchers = [FastCorrelativeScanMatcher(_submap(rng, (120, 150)), 4) for _ in range(3)]
+    queries = []
+    for k in range(9):
+        m = matchers[k % 3]
+        points = rng.uniform(-2.5, 2.5, (int(rng.integers(20, 60)), 2))
+        centre = [m.submap.col0 * RES + rng.uniform(0, 7.5), m.submap.row0 * RES + rng.uniform(0, 6.0)]  # fmt: skip
+        queries.append((m, points, np.array([*centre, rng.uniform(-math.pi, math.pi)])))
+    queries.append((matchers[0], np.zeros((0, 2)), np.zeros(3)))  # no points: nothing
+    together = match_batch(queries, 0.5, 0.15, 0.2)
+    alone = [m.match(p, i, 0.5, 0.15, 0.2) for m, p, i in queries]
+    assert together[-1] is None and sum(f is not None for f in alone) >= 5
+    for t, s in zip(together, alone, strict=True):
+        assert (t is None and s is None) or (np.array_equal(t[0], s[0]) and t[1] == s[1])

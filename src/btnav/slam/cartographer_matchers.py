@@ -94,13 +94,25 @@ def _headings(centre: float, window: float, step: float) -> F64:
 def _point_cells(submap: Submap, points: F64, pose_xy: F64, angles: F64) -> tuple[I64, I64]:
     """(A, N) lattice cells of the points turned to each heading and moved to `pose_xy`."""
     s, c = fmath.sincos(angles)
+    s, c = s[:, None], c[:, None]
     x, y = points[:, 0][None, :], points[:, 1][None, :]
-    wx = c[:, None] * x - s[:, None] * y + pose_xy[0]
-    wy = s[:, None] * x + c[:, None] * y + pose_xy[1]
     lat = submap.lattice
     inv = 1.0 / lat.resolution
-    rows = np.floor((wy - lat.y0) * inv + 0.5).astype(np.int64)
-    cols = np.floor((wx - lat.x0) * inv + 0.5).astype(np.int64)
+    # in place, these steps: ((c x - s y + pose x) - lattice x0) inv + 0.5, floored
+    v, t = c * x, s * y
+    v -= t
+    v += pose_xy[0]
+    v -= lat.x0
+    v *= inv
+    v += 0.5
+    cols = np.floor(v, out=v).astype(np.int64)
+    np.multiply(s, x, out=v)
+    v += np.multiply(c, y, out=t)
+    v += pose_xy[1]
+    v -= lat.y0
+    v *= inv
+    v += 0.5
+    rows = np.floor(v, out=v).astype(np.int64)
     return rows, cols
 
 
@@ -115,7 +127,14 @@ def _mean_probability(sums: NDArray[np.integer], n: int) -> F64:
 def real_time_correlative_match(
     submap: Submap, points: F64, prediction: F64, options: RealTimeCorrelativeScanMatcher
 ) -> tuple[F64, float]:
-    """The best candidate around `prediction` (local frame) and its score."""
+    """The best candidate around `prediction` (local frame) and its score: the first in
+    (heading, row, column) order among equals.
+
+    In a small window every heading is bounded first: its points' maxima over the window
+    (`_window_max` over the part of the grid the scan covers: one lookup a point, not one
+    per offset) give a sum no offset exceeds, times its best cost factor. The headings
+    with the highest bounds are scored, then every heading whose bound reaches the best
+    score so far; the others cannot hold the best candidate (nor tie it)."""
     res = submap.lattice.resolution
     angles = _headings(
         float(prediction[2]), options.angular_search_window, angular_step(points, res)
@@ -127,12 +146,7 @@ def real_time_correlative_match(
     h, w = grid.shape
     top = np.minimum(np.maximum(rows - n - r0, 0), h - size)
     left = np.minimum(np.maximum(cols - n - c0, 0), w - size)
-    base = (top * w + left).astype(np.int32)  # (A, N); a row of the window at a time:
-    flat, dx = grid.reshape(-1), np.arange(size, dtype=np.int32)[:, None, None]
-    sums = np.empty((size, size, len(angles)), np.int32)  # (dy, dx, A): below 2^31
-    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
-        sums[dy] = np.take(flat, base + (dx + dy * w)).sum(axis=2, dtype=np.int32)
-    score = _mean_probability(sums.transpose(2, 0, 1), len(points))
+    base = (top * w + left).astype(np.int32)  # (A, N)
     offsets = (np.arange(size) - n) * res
     dist = fmath.hypot(offsets[:, None], offsets[None, :])
     turn = np.abs(angles - prediction[2])
@@ -140,10 +154,65 @@ def real_time_correlative_match(
         dist[None, :, :] * options.translation_delta_cost_weight
         + turn[:, None, None] * options.rotation_delta_cost_weight
     )
-    score = score * fmath.exp(-(cost * cost))
+    weight = fmath.exp(-(cost * cost))  # (A, dy, dx)
+    score = np.full(weight.shape, -np.inf)
+    flat = grid.reshape(-1)
+
+    def evaluate(pick: I64) -> None:
+        score[pick] = _score_headings(pick, base, flat, w, size) * weight[pick]
+
+    if size > _BOUND_MAX_SIZE:  # a wide window's bounds are too loose to rule much out
+        evaluate(np.arange(len(angles)))
+    else:
+        t0, l0 = int(top.min()), int(left.min())
+        peak = _window_max(grid[t0 : int(top.max()) + size, l0 : int(left.max()) + size], size)
+        at = (top - t0) * peak.shape[1] + (left - l0)
+        bound = _mean_probability(np.take(peak.reshape(-1), at).sum(axis=1, dtype=np.int32), len(points))  # fmt: skip
+        bound = bound * weight.reshape(len(angles), -1).max(axis=1)
+        first = np.sort(np.argsort(-bound, kind="stable")[:_FIRST_HEADINGS])
+        evaluate(first)
+        rest = bound >= score.max()
+        rest[first] = False
+        if rest.any():
+            evaluate(np.flatnonzero(rest))
     a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
     pose = np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]])
     return pose, float(score[a, i, j])
+
+
+def _score_headings(pick: I64, base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, size: int) -> F64:  # fmt: skip
+    """Mean probabilities (headings, dy, dx) of the headings `pick`: the window's cells
+    from each point's `base` index in the flat grid `w` wide."""
+    b = base[pick]
+    sums = np.empty((size, size, len(pick)), np.int32)  # (dy, dx, A): below 2^31
+    dx = np.arange(size, dtype=np.int32)[:, None, None]
+    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
+        sums[dy] = np.take(flat, b + (dx + dy * w)).sum(axis=2, dtype=np.int32)
+    return _mean_probability(sums.transpose(2, 0, 1), base.shape[1])
+
+
+def _window_max(grid: NDArray[np.uint16], size: int) -> NDArray[np.uint16]:
+    """The maximum over each size x size window inside `grid`, at the window's first
+    cell: (rows - size + 1, cols - size + 1). Windows doubled (log2 size passes an axis),
+    the last two overlapping."""
+    out = grid
+    for axis in (0, 1):
+        m = np.moveaxis(out, axis, 0)
+        width, p = 1, m
+        while 2 * width <= size:
+            p = np.maximum(p[:-width], p[width:])
+            width *= 2
+        keep = m.shape[0] - size + 1
+        out = np.moveaxis(np.maximum(p[:keep], p[size - width : size - width + keep]), 0, axis)
+    return out
+
+
+#: Headings the real-time matcher scores first (the highest bounds), for a best score
+#: that rules out the others.
+_FIRST_HEADINGS = 4
+#: The widest window (cells) whose headings are bounded first: a window of s x s offsets
+#: costs s^2 lookups a point and the bound one, but wide windows' bounds rule out little.
+_BOUND_MAX_SIZE = 9
 
 
 #: Catmull-Rom weights of samples -1, 0, 1, 2 as cubics in t (rows: t^0, t^1, t^2, t^3).
@@ -153,18 +222,19 @@ _CUBIC = np.array(
 _PROBABILITY_STEP = _SPAN / (MAX_VALUE - 1)
 
 
-def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
-    """Probability at points and, up to `order`, its derivatives per metre (x, y; then xx,
-    xy, yy): Catmull-Rom in both axes (ceres::BiCubicInterpolator's kernel); off the
-    grid it is 0.1 and flat. Arrays are laid out (..., N) so every sum runs over rows."""
+def _bicubic(submap: Submap, x: F64, y: F64) -> tuple[F64, F64]:
+    """Probability at points (x, y) and its derivatives per metre (x, y, xx, xy, yy; rows
+    of a (5, N) array): Catmull-Rom in both axes (ceres::BiCubicInterpolator's kernel);
+    off the grid it is 0.1 and flat. Arrays are laid out (..., N) so every sum runs over
+    rows (in the same order, one multiply-and-sum for all the weights at once)."""
     grid, r0, c0 = submap.scoring(4)
     lat = submap.lattice
     inv = 1.0 / lat.resolution
     # cell centres at whole numbers, counted from 4 cells outside the grid (the border
     # scoring guarantees; it may be wider: the lookups are moved into it after)
     b0, a0 = submap.row0 - 4, submap.col0 - 4
-    u = (xy[:, 0] - lat.x0) * inv - a0
-    v = (xy[:, 1] - lat.y0) * inv - b0
+    u = (x - lat.x0) * inv - a0
+    v = (y - lat.y0) * inv - b0
     j, i = np.floor(u), np.floor(v)
     tu, tv = u - j, v - i
     h, w = grid.shape
@@ -174,20 +244,27 @@ def _bicubic(submap: Submap, xy: F64, order: int) -> tuple[F64, ...]:
     f = grid.reshape(-1)[flat + (top * w + left)] * _PROBABILITY_STEP
     f = f.reshape(4, 4, -1)  # (row, col, N), less a constant that the weights sum away
     k0, k1, k2, k3 = _CUBIC[:, :, None]
-    wu, wv = k0 + tu * (k1 + tu * (k2 + tu * k3)), k0 + tv * (k1 + tv * (k2 + tv * k3))
-    fx = (f * wu).sum(axis=1)  # (4, N): each row interpolated in x
+    # the weights of the columns (u) and rows (v): value, first and second derivative
+    wu = np.empty((3, 4, len(x)))
+    wv = np.empty((3, 4, len(x)))
+    for t, out in ((tu, wu), (tv, wv)):
+        out[0] = k0 + t * (k1 + t * (k2 + t * k3))
+        out[1] = k1 + t * (2.0 * k2 + 3.0 * t * k3)
+        out[2] = 2.0 * k2 + 6.0 * t * k3
+    fu = (f[None] * wu[:, None]).sum(axis=2)  # (3, 4, N): each row interpolated in x
+    # value, d/dx, d/dy, d2/dx2, d2/dxdy, d2/dy2
+    m = (fu[_ROWS_U] * wv[_ROWS_V]).sum(axis=1)
     base = MIN_PROBABILITY - _PROBABILITY_STEP  # value 1 is probability 0.1
-    out: tuple[F64, ...] = ((fx * wv).sum(axis=0) + base,)
-    if order >= 1:
-        du, dv = k1 + tu * (2.0 * k2 + 3.0 * tu * k3), k1 + tv * (2.0 * k2 + 3.0 * tv * k3)
-        fdx = (f * du).sum(axis=1)
-        out += ((fdx * wv).sum(axis=0) * inv, (fx * dv).sum(axis=0) * inv)
-    if order >= 2:
-        ddu, ddv = 2.0 * k2 + 6.0 * tu * k3, 2.0 * k2 + 6.0 * tv * k3
-        inv2 = inv * inv
-        fxx = ((f * ddu).sum(axis=1) * wv).sum(axis=0)
-        out += (fxx * inv2, (fdx * dv).sum(axis=0) * inv2, (fx * ddv).sum(axis=0) * inv2)
-    return out
+    inv2 = inv * inv
+    grads = np.empty((5, len(x)))
+    grads[:2] = m[1:3] * inv
+    grads[2:] = m[3:] * inv2
+    return m[0] + base, grads
+
+
+#: Which x-weights (value, first, second derivative) and y-weights make the value and
+#: each derivative of the bicubic surface.
+_ROWS_U, _ROWS_V = np.array([0, 1, 0, 2, 1, 0]), np.array([0, 0, 1, 0, 1, 2])
 
 
 _NEIGHBOURS: dict[int, I64] = {}
@@ -207,43 +284,41 @@ def ceres_match(
     target = np.array([float(target_xy[0]), float(target_xy[1]), float(initial[2])])
     pw = np.array([w.translation_weight, w.translation_weight, w.rotation_weight])
     px, py = points[:, 0], points[:, 1]
+    prior_hess = np.diag(pw * pw)
 
-    def evaluate(x: F64, order: int) -> tuple[float, F64, F64]:
+    def evaluate(x: F64) -> tuple[float, F64, F64]:
         s, c = fmath.sincos(float(x[2]))
         rx, ry = c * px - s * py, s * px + c * py  # the points turned, before the shift
-        d = _bicubic(submap, np.column_stack([rx + x[0], ry + x[1]]), order)
-        r = a * (1.0 - d[0])
+        p, (gx, gy, gxx, gxy, gyy) = _bicubic(submap, rx + x[0], ry + x[1])
+        r = a * (1.0 - p)
         prior = pw * (x - target)
         cost = float((r * r).sum()) + float((prior * prior).sum())
-        if order == 0:
-            return cost, np.zeros((3, 3)), np.zeros(3)
-        gx, gy, gxx, gxy, gyy = d[1:]
         tx, ty = -ry, rx  # d(point)/d(theta)
-        j = [-a * gx, -a * gy, -a * (gx * tx + gy * ty)]
+        jac = np.empty((3, len(r)))
+        jac[0], jac[1], jac[2] = -a * gx, -a * gy, -a * (gx * tx + gy * ty)
         # r d2r: -a r times the second derivative of P along the pose's parameters
-        ar = -a * r
-        second = [
-            [gxx, gxy, gxx * tx + gxy * ty],
-            [gxy, gyy, gxy * tx + gyy * ty],
-            [None, None, gxx * tx * tx + 2.0 * gxy * tx * ty + gyy * ty * ty - gx * rx - gy * ry],
-        ]
-        hess = np.empty((3, 3))
-        for k in range(3):
-            for m in range(k, 3):
-                hess[k, m] = hess[m, k] = float((j[k] * j[m] + ar * second[k][m]).sum())
-        hess += np.diag(pw * pw)
-        grad = np.array([float((jk * r).sum()) for jk in j]) + prior * pw
+        second = np.empty((6, len(r)))  # the Hessian's upper triangle, row by row
+        second[0], second[1], second[3] = gxx, gxy, gyy
+        second[2], second[4] = gxx * tx + gxy * ty, gxy * tx + gyy * ty
+        second[5] = gxx * tx * tx + 2.0 * gxy * tx * ty + gyy * ty * ty - gx * rx - gy * ry
+        terms = jac[_UPPER_K] * jac[_UPPER_M]
+        terms += (-a * r) * second
+        upper = terms.sum(axis=1)
+        hess = upper[_SYMMETRIC] + prior_hess
+        grad = (jac * r).sum(axis=1) + prior * pw
         return cost, hess, grad
 
     x = np.asarray(initial, float).copy()
-    cost, hess, grad = evaluate(x, 2)
+    cost, hess, grad = evaluate(x)
     mu = 0.0
     for _ in range(w.max_num_iterations):
-        step = _solve3(hess + mu * np.diag(np.abs(np.diag(hess))), -grad)
+        damped = hess.copy()  # hess + mu diag(|diag(hess)|)
+        damped[_K3, _K3] += mu * np.abs(hess[_K3, _K3])
+        step = _solve3(damped, -grad)
         if step is None:
             mu = max(10.0 * mu, 1e-3)
             continue
-        trial = evaluate(x + step, 2)  # the derivatives come with the cost: no extra pass
+        trial = evaluate(x + step)  # the derivatives come with the cost: no extra pass
         if trial[0] < cost:
             done = cost - trial[0] <= 1e-6 * cost
             x = x + step
@@ -254,6 +329,13 @@ def ceres_match(
         else:
             mu = max(10.0 * mu, 1e-3)
     return x
+
+
+#: The Hessian's upper triangle (0,0) (0,1) (0,2) (1,1) (1,2) (2,2), and the full 3 x 3
+#: from it.
+_UPPER_K, _UPPER_M = np.array([0, 0, 0, 1, 1, 2]), np.array([0, 1, 2, 1, 2, 2])
+_SYMMETRIC = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+_K3 = np.arange(3)
 
 
 def _solve3(m: F64, b: F64) -> F64 | None:

@@ -16,7 +16,8 @@ inserted into (intra-submap constraints) and, by the fast correlative matcher, t
 finished submaps within `max_constraint_distance` (sampled at `sampling_ratio`; every
 older node is tried against a submap when it finishes). Constraints scoring above
 `min_score` are loop closures. Every `optimize_every_n_nodes` nodes the graph is
-optimised by btnav's `PoseGraph` (Huber loss on loop closures by reweighting), and
+optimised (`optimize_huber`: Levenberg-Marquardt on btnav's `PoseGraph` with Huber's
+loss on the loop closures, applied at every iteration of one solve as Ceres does), and
 local SLAM's frame is re-placed in the map by its newest submap.
 
 btnav's graph holds nodes only: a submap's frame is the pose of the node that started
@@ -56,13 +57,22 @@ from .cartographer_matchers import (
 )
 from .cartographer_options import CartographerConfig, TrajectoryBuilder2D
 from .cartographer_options import PoseGraph as PoseGraphOptions
-from .fast_correlative_matcher import FastCorrelativeScanMatcher
-from .pose_graph import PoseGraph, optimize_poses, symbolic_factor
+from .fast_correlative_matcher import FastCorrelativeScanMatcher, match_batch
+from .graph_solver import NormalEquations, assemble
+from .pose_graph import (
+    LAMBDA_FACTOR,
+    LAMBDA_INITIAL,
+    LAMBDA_MAX,
+    LAMBDA_MIN,
+    NEGLIGIBLE_ERROR_PER_EDGE,
+    PoseGraph,
+    edge_errors,
+    jacobians,
+    symbolic_factor,
+)
 from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 
 F64 = NDArray[np.float64]
-#: IRLS rounds that turn btnav's least squares into Cartographer's Huber loss on loop closures.
-_HUBER_ROUNDS = 3
 #: A known cell more likely free than not is free on the live map: cartographer_ros
 #: publishes every known cell's probability (x100) and Nav2's static layer, trinary,
 #: takes any known value below its lethal threshold as free. With map_saver's 0.25 a
@@ -95,6 +105,80 @@ def relative(a: F64, b: F64) -> F64:
 def _information(translation_weight: float, rotation_weight: float) -> F64:
     """Cartographer's residuals are weight x error, so the information is weight^2."""
     return np.diag([translation_weight**2, translation_weight**2, rotation_weight**2])
+
+
+def huber(s: F64, scale: float) -> tuple[F64, F64]:
+    """Ceres's HuberLoss at squared residual norms `s`: rho(s) (s up to scale^2, then
+    2 scale sqrt(s) - scale^2) and its derivative rho'(s) (1, then scale / sqrt(s))."""
+    norm = np.sqrt(np.maximum(s, 0.0))
+    outer = norm > scale
+    rho = np.where(outer, 2.0 * scale * norm - scale * scale, s)
+    weight = np.where(outer, scale / np.maximum(norm, scale), 1.0)
+    return rho, weight
+
+
+def optimize_huber(
+    poses: F64,
+    i: NDArray[np.int64],
+    j: NDArray[np.int64],
+    z: F64,
+    info: F64,
+    loops: NDArray[np.int64],
+    scale: float,
+    max_iterations: int,
+    tolerance: float = 1e-6,
+) -> F64:
+    """Levenberg-Marquardt over the graph (node 0 fixed) with Huber's loss on the edges
+    `loops`, as Ceres minimises Cartographer's problem: the cost is sum rho(r^T L r) over
+    the closures plus r^T L r over the other edges, and every linearisation weighs each
+    closure's information by rho' at its residual (Ceres's Corrector: Huber's rho'' is
+    never positive, so the residual and Jacobian are scaled by sqrt(rho'), no curvature
+    term). One solve; the steps, damping and stopping rule are `optimize_poses`'s."""
+    x = np.array(poses, dtype=np.float64)
+    pattern, chol = symbolic_factor(x.shape[0], i, j)
+
+    def cost(e: F64) -> float:
+        e = e.copy()
+        e[loops] = huber(e[loops], scale)[0]
+        return float(e.sum()) if e.size else 0.0
+
+    def linearise(x: F64) -> NormalEquations:
+        r, a, b = jacobians(x, i, j, z)
+        weighted = info
+        if loops.size:
+            rl = r[loops]
+            s = fmath.dot_rows(rl, fmath.matmul_k(info[loops], rl[:, :, None])[:, :, 0])
+            weighted = info.copy()
+            weighted[loops] *= huber(s, scale)[1][:, None, None]
+        return assemble(pattern, a, b, weighted, r, 0)
+
+    err = cost(edge_errors(x, i, j, z, info))
+    negligible = NEGLIGIBLE_ERROR_PER_EDGE * max(i.size, 1)
+    if err <= negligible:
+        return x
+    lam = LAMBDA_INITIAL
+    system = linearise(x)
+    for _ in range(max_iterations):
+        factors = chol.factor(system, system.damped_diag(lam))
+        dx = None if factors is None else chol.solve(factors, -system.grad)
+        err_new = np.inf
+        if dx is not None and np.isfinite(dx).all():
+            trial = x + dx
+            trial[:, 2] = normalize_angle(trial[:, 2])
+            trial[0] = x[0]
+            err_new = cost(edge_errors(trial, i, j, z, info))
+        if err_new < err:
+            decrease = err - err_new
+            x, err = trial, err_new
+            lam = max(lam / LAMBDA_FACTOR, LAMBDA_MIN)
+            if decrease <= tolerance * (err + decrease) or err <= negligible:
+                break
+            system = linearise(x)
+        elif lam >= LAMBDA_MAX:
+            break
+        else:
+            lam = min(lam * LAMBDA_FACTOR, LAMBDA_MAX)
+    return x
 
 
 @dataclass
@@ -245,16 +329,13 @@ class CartographerMapper:
         if finished:  # the node against every finished submap near it: one array pass
             anchors = self.graph.poses[[self.anchors[i] for i in finished]]
             rel = relative_arrays(anchors, np.broadcast_to(self.graph.poses[n], anchors.shape))
-            for k in self._within(rel):
-                self._maybe_add_constraint(n, finished[k], rel[k])
+            self._add_constraints([(n, finished[k], rel[k]) for k in self._within(rel)])
         if ins.finished is not None:
             index = ins.finished.index
             self.matchers[index] = FastCorrelativeScanMatcher(ins.finished, o.constraint_builder.fast_correlative_scan_matcher.branch_and_bound_depth)  # fmt: skip
             inside = set(ins.finished.node_ids)
             rel = relative_arrays(self.submap_pose(index)[None, :], self.graph.poses)
-            for m in self._within(rel):
-                if m not in inside:
-                    self._maybe_add_constraint(m, index, rel[m])
+            self._add_constraints([(m, index, rel[m]) for m in self._within(rel) if m not in inside])  # fmt: skip
         self.since_optimization += 1
         if o.optimize_every_n_nodes > 0 and self.since_optimization >= o.optimize_every_n_nodes:
             self.optimize()
@@ -265,60 +346,49 @@ class CartographerMapper:
         d2 = rel[:, 0] ** 2 + rel[:, 1] ** 2
         return np.flatnonzero(d2 <= self.o.constraint_builder.max_constraint_distance**2).tolist()
 
-    def _maybe_add_constraint(self, n: int, index: int, rel: F64) -> None:
-        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for node n and a finished
-        submap, `rel` the node in the submap's frame (within max_constraint_distance)."""
+    def _add_constraints(self, pairs: list[tuple[int, int, F64]]) -> None:
+        """Cartographer's ConstraintBuilder2D::MaybeAddConstraint for each (node, finished
+        submap, the node in the submap's frame within max_constraint_distance), in turn:
+        the submap's sampler, then the fast correlative search (all of them together:
+        `match_batch`; the poses they start from hold until the next optimisation), the
+        Ceres refinement and the loop closure, in the same order."""
         cb = self.o.constraint_builder
-        sampler = self.samplers.setdefault(index, [0, 0])
-        sampler[0] += 1
-        if sampler[1] / sampler[0] >= cb.sampling_ratio:  # Cartographer's FixedRatioSampler
-            return
-        sampler[1] += 1
-        submap, node = self.submaps[index], self.scans[n]
         fast = cb.fast_correlative_scan_matcher
-        initial = compose(submap.local_pose, rel)
-        found = self.matchers[index].match(node.points, initial, fast.linear_search_window, fast.angular_search_window, cb.min_score)  # fmt: skip
-        if found is None:
-            return
-        pose = ceres_match(submap, node.points, found[0][:2], found[0], cb.ceres_scan_matcher)  # fmt: skip
-        a = self.anchors[index]
+        searched = []
+        for n, index, rel in pairs:
+            sampler = self.samplers.setdefault(index, [0, 0])
+            sampler[0] += 1
+            if sampler[1] / sampler[0] >= cb.sampling_ratio:  # Cartographer's FixedRatioSampler
+                continue
+            sampler[1] += 1
+            initial = compose(self.submaps[index].local_pose, rel)
+            searched.append((n, index, initial))
+        queries = [(self.matchers[index], self.scans[n].points, initial) for n, index, initial in searched]  # fmt: skip
+        found = match_batch(queries, fast.linear_search_window, fast.angular_search_window, cb.min_score)  # fmt: skip
         info = _information(cb.loop_closure_translation_weight, cb.loop_closure_rotation_weight)
-        self.loop_edges.append(self.graph.add_edge(a, n, relative(self.scans[a].local_pose, pose), information=info))  # fmt: skip
-        self.loop_closures += 1
+        for (n, index, _), f in zip(searched, found, strict=True):
+            if f is None:
+                continue
+            pose = ceres_match(self.submaps[index], self.scans[n].points, f[0][:2], f[0], cb.ceres_scan_matcher)  # fmt: skip
+            a = self.anchors[index]
+            self.loop_edges.append(self.graph.add_edge(a, n, relative(self.scans[a].local_pose, pose), information=info))  # fmt: skip
+            self.loop_closures += 1
 
     def optimize(self, max_iterations: int | None = None) -> None:
-        """Solve the graph (node 0 fixed), Huber on loop closures by reweighted least squares."""
+        """Solve the graph (node 0 fixed), Huber's loss on the loop closures (see
+        `optimize_huber`)."""
         opt = self.o.optimization_problem
         iterations = opt.max_num_iterations if max_iterations is None else max_iterations
         self.since_optimization = 0
         if self.graph.num_nodes < 2:
             return
-        arrays = self.graph.to_arrays()
-        info = arrays["information"]
-        i, j, z = arrays["edge_i"], arrays["edge_j"], arrays["measurements"]
-        symbolic = symbolic_factor(self.graph.num_nodes, i, j)  # one pattern for every round
+        i, j, z, info = self.graph.edges
         loops = np.array(self.loop_edges, dtype=np.int64)
-        for _ in range(_HUBER_ROUNDS if len(loops) else 1):
-            weights = self._huber_weights(arrays["poses"], i[loops], j[loops], z[loops], info[loops], opt.huber_scale)  # fmt: skip
-            arrays["information"] = info.copy()
-            arrays["information"][loops] *= weights[:, None, None]
-            arrays["poses"], _ = optimize_poses(arrays["poses"], i, j, z, arrays["information"], fixed=0, max_iterations=iterations, symbolic=symbolic)  # fmt: skip
-        self.graph.set_poses(arrays["poses"])
+        poses = optimize_huber(self.graph.poses, i, j, z, info, loops, opt.huber_scale, iterations)  # fmt: skip
+        self.graph.set_poses(poses)
         newest = self.submaps[max(self.anchors)]
         self.local_to_global = compose(self.submap_pose(newest.index), relative(newest.local_pose, np.zeros(3)))  # fmt: skip
         self.revision += 1
-
-    @staticmethod
-    def _huber_weights(poses: F64, i: NDArray[np.int64], j: NDArray[np.int64], z: F64, info: F64, scale: float) -> F64:  # fmt: skip
-        """rho'(s) of Ceres's HuberLoss at each loop closure's weighted squared residual
-        (`info`: the closures' own information, never a previous round's reweighted one)."""
-        if not len(i):
-            return np.ones(0)
-        r = relative_arrays(poses[i], poses[j]) - z
-        r[:, 2] = normalize_angle(r[:, 2])
-        s = fmath.dot_rows(r, fmath.matmul_k(info, r[:, :, None])[:, :, 0])
-        norm = np.sqrt(np.maximum(s, 0.0))
-        return np.where(norm <= scale, 1.0, scale / np.maximum(norm, scale))
 
     def run_final_optimization(self) -> None:
         """What FinishTrajectory does: one last optimisation with max_num_final_iterations."""

@@ -6,56 +6,81 @@ candidate the block covers), built once when the submap finishes and kept, as
 Cartographer's PrecomputationGridStack2D. Headings are not branched; translations are,
 from a lattice 2^(depth - 1) cells apart down to single cells. Values are quantised to
 0..255 over [0.1, 0.9], as Cartographer's precomputation grids, so a candidate's score
-is an integer sum and every search order finds the same best candidate.
+is an integer sum and every search order finds the same best candidate: the one with
+the highest score, the first in the tree's order (heading, then the top level's lattice,
+then each level's four sub-blocks in Cartographer's order) among equals.
 
 How it is computed (the result is Cartographer's; the order of the work is numpy's):
 
+- `match_batch` runs many searches at once (those of a newly finished submap against
+  every older node near it, or of a new node against every finished submap near it:
+  their initial poses are fixed until the next optimisation, so none waits on another's
+  result), each level's candidates of every search in one array; `match` is one search.
 - A candidate is (heading, column step, row step) on its level's lattice: offset
   `step * 2^d - n` cells, n the window's half width in cells. Its children are the
-  four sub-blocks at the next level whose offsets stay inside the window.
-- Headings are bounded 8 at a time before they are scored one by one (`_Search.groups`:
+  four sub-blocks at the next level whose offsets stay inside the window. A search's
+  headings are columns of the batch's heading table, in the search's order.
+- The bound a candidate must reach starts at the best single-cell candidate around the
+  initial pose (`_Batch.near`: a found match is most often within a few cells and
+  headings of it), and `min_score`: a candidate below it cannot win, nor can one that
+  only ties it (equal scores: the first in the tree's order, which survives too, wins).
+- Headings are bounded 8 at a time before they are scored one by one (`_Batch.groups`:
   a point's cells over 8 neighbouring headings fit in a box 8 cells wide, and an extra
   grid per level holds the level's maximum over such boxes): top-level candidates whose
-  group cannot beat `min_score`, and children of the next two levels whose group and
-  block cannot beat the best so far (`_Search.group_bound`), are never scored. What is
-  dropped could not have won, so every level keeps the same survivors.
-- The bound starts at `min_score`, is raised by a beam dive (the best few coarse
-  candidates carried down level by level to single cells), then every level's
-  survivors (bound above the best score so far) are expanded together.
+  group cannot reach the bound, and children of the next two levels whose group and
+  block cannot (`_Batch.group_bound`), are never scored. What is dropped could not have
+  won, so every level keeps the same survivors.
+- A child is scored a part of the points at a time: its sum over the parts done plus
+  its parent's over the parts to come bounds it (a point's cell at the parent's level
+  holds the maximum over the child's block), so most children that cannot reach the
+  bound are dropped after a third of their lookups.
 - Scoring: the levels are kept inside a margin of 2 n + 1 cells copied from their
   edges (what a clipped lookup reads), so a point's flat index at step 0, clipped once
   per search, plus one offset per candidate is every lookup: no table, no clipping per
   candidate. Candidates come sorted by heading, so the indices are the points' column
   of each heading repeated over its run (points x candidates: the sum runs down
-  columns). Lookups go in batches that stay in cache; indices are int32. The margins
-  and group grids cost memory: ~16 MB a finished submap of Intel's (650 x 690 cells)
+  columns); a search with fewer points than the batch's most reads a cell that is 0 at
+  every offset for the rest. Lookups go in batches that stay in cache. The margins and
+  group grids cost memory: ~16 MB a finished submap of Intel's (650 x 690 cells)
   instead of ~3.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .cartographer_matchers import _SPAN, _headings, _point_cells, angular_step
+from ..core import fmath
+from .cartographer_matchers import _SPAN, _headings, angular_step
 from .submaps import MAX_VALUE, MIN_PROBABILITY, Submap
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
 I32 = NDArray[np.int32]
-#: Lookups per batch (int32 indices: 512 kB, in cache with the grid's rows they touch).
+#: Lookups per batch (int64 indices: 1 MB, in cache with the grid's rows they touch).
 _LOOKUPS = 1 << 17
-#: Coarse candidates carried down by the beam dive that seeds the bound.
-_BEAM = 4
-#: Headings bounded together above the top level (see `_Search.groups`).
+#: Searches run together at most (their arrays: ~10 MB per 16 searches of Intel's).
+_SEARCHES = 16
+#: Headings bounded together above the top level (see `_Batch.groups`).
 _GROUP = 8
 #: The levels from the top down whose children are bounded by heading group first
-#: (`_Search.group_bound`; one extra grid each per submap).
+#: (`_Batch.group_bound`; one extra grid each per submap).
 _GROUP_LEVELS = 3
+#: The candidates around the initial pose scored first (`_Batch.near`): offsets up to
+#: this many cells and headings up to this many steps each way.
+_NEAR_CELLS, _NEAR_HEADINGS = 1, 1
+#: The points are scored in this many parts (every third point, from the first, second,
+#: third), each child's running sum plus its parent's sums of the parts still to come
+#: bounding it (`_Batch.run`).
+_PARTS = 3
 #: A block's four sub-blocks, in Cartographer's order: steps added to (2 x, 2 y).
 _QUAD_X, _QUAD_Y = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
+
+Query = tuple["FastCorrelativeScanMatcher", F64, F64]
+Match = tuple[F64, float] | None
 
 
 class FastCorrelativeScanMatcher:
@@ -84,7 +109,7 @@ class FastCorrelativeScanMatcher:
     def padded(self, n: int) -> tuple[list[NDArray[np.uint8]], int]:
         """The levels, flat, each inside a margin of 2 n + 1 cells that read as a clipped
         lookup does (edge values): a search n cells wide then needs no clipping per
-        candidate (see `_Search`); and the padded width. Kept for the next search."""
+        candidate (see `_Batch`); and the padded width. Kept for the next search."""
         margin = 2 * n + 1
         if self.pad != margin:
             h, w = self.shape
@@ -104,170 +129,290 @@ class FastCorrelativeScanMatcher:
         linear_window: float,
         angular_window: float,
         min_score: float,
-    ) -> tuple[F64, float] | None:
+    ) -> Match:
         """The best pose (local frame) within the windows around `initial` scoring above
         `min_score`, with its score; None if there is none."""
-        if len(points) == 0:
-            return None
-        res = self.submap.lattice.resolution
-        angles = _headings(float(initial[2]), angular_window, angular_step(points, res))
-        rows, cols = _point_cells(self.submap, points, initial[:2], angles)
-        n = math.ceil(linear_window / res)
-        search = _Search(self, rows, cols, n)
-        top = len(self.levels) - 1
-        steps = np.arange(search.lattice(top))
-        a, sy, sx = (g.ravel() for g in np.meshgrid(np.arange(len(angles)), steps, steps, indexing="ij"))  # fmt: skip
-        maybe = search.groups(top, min_score)
-        a, sx, sy = a[maybe], sx[maybe], sy[maybe]
-        score = search.score(search.sums(top, a, sx, sy))
-        best: tuple[int, int, int] | None = None
-        best_score = min_score
-        leaf = search.dive(top, a, sx, sy, score)
-        if leaf is not None and leaf[1] > best_score:
-            best, best_score = leaf
-        for depth in range(top, -1, -1):
-            keep = score > best_score
-            a, sx, sy, score = a[keep], sx[keep], sy[keep], score[keep]
-            if depth == 0 or not len(a):
-                break
-            a, sx, sy = search.children(depth, a, sx, sy)
-            if depth - 1 in search.group_grids:
-                maybe = search.group_bound(depth - 1, a, sx, sy, best_score)
-                a, sx, sy = a[maybe], sx[maybe], sy[maybe]
-            score = search.score(search.sums(depth - 1, a, sx, sy))
-        if len(a):
-            k = int(np.argmax(score))
-            best, best_score = (int(a[k]), int(sx[k]), int(sy[k])), float(score[k])
-        if best is None:
-            return None
-        pose = np.array([initial[0] + (best[1] - n) * res, initial[1] + (best[2] - n) * res, angles[best[0]]])  # fmt: skip
-        return pose, best_score
+        return match_batch([(self, points, initial)], linear_window, angular_window, min_score)[0]  # fmt: skip
 
 
-class _Search:
-    """One search's points (a flat index per heading and point) and its scoring over the
-    level grids.
+def match_batch(
+    queries: Sequence[Query], linear_window: float, angular_window: float, min_score: float
+) -> list[Match]:
+    """`FastCorrelativeScanMatcher.match` of each (matcher, points, initial) query, the
+    same answers, computed together (see the module doc)."""
+    out: list[Match] = [None] * len(queries)
+    live = [k for k, q in enumerate(queries) if len(q[1])]
+    rank: dict[int, int] = {}
+    for k in live:  # a matcher's searches side by side: its grids are read in one run
+        rank.setdefault(id(queries[k][0]), len(rank))
+    live.sort(key=lambda k: rank[id(queries[k][0])])
+    for j in range(0, len(live), _SEARCHES):
+        chunk = live[j : j + _SEARCHES]
+        found = _Batch([queries[k] for k in chunk], linear_window, angular_window).run(min_score)  # fmt: skip
+        for k, f in zip(chunk, found, strict=True):
+            out[k] = f
+    return out
+
+
+class _Batch:
+    """Searches run together: their headings are the columns of one table of points'
+    flat indices, their candidates one array per level (see the module doc).
 
     A candidate at level d reads cell (r + (sy << d), c + (sx << d)) for each point's
-    (r, c) at step 0, clipped into the level (its border reads 0). The levels carry a
-    margin of 2 n + 1 edge cells (`FastCorrelativeScanMatcher.padded`), so a lookup up to
-    2 n past the level reads what the clipped one does; a point already beyond that is
-    clipped once, where every step of the window reads the same edge. A candidate's
-    indices are then a point's flat index plus one offset.
+    (r, c) at step 0, clipped into its submap's level (whose border reads 0). The levels
+    carry a margin of 2 n + 1 edge cells (`FastCorrelativeScanMatcher.padded`), so a
+    lookup up to 2 n past the level reads what the clipped one does; a point already
+    beyond that is clipped once, where every step of the window reads the same edge. A
+    candidate's indices are then a point's flat index plus one offset.
     """
 
-    def __init__(self, matcher: FastCorrelativeScanMatcher, rows: I64, cols: I64, n: int) -> None:
-        self.grids, width = matcher.padded(n)
-        h, w = matcher.shape
+    def __init__(self, queries: Sequence[Query], linear_window: float, angular_window: float):
+        self.queries = queries
+        first = queries[0][0]
+        res = first.submap.lattice.resolution
+        self.res = res
+        self.n = n = math.ceil(linear_window / res)
         margin = 2 * n + 1
-        r = np.clip(rows - (matcher.row0 + n), -margin, h) + margin
-        c = np.clip(cols - (matcher.col0 + n), -margin, w) + margin
-        base = (r * width + c).astype(np.int32)  # (headings, points)
-        self.base = base
+        self.depth = len(first.levels)
+        # the matchers, each with its columns (headings, then heading groups) in a run
+        mats: list[FastCorrelativeScanMatcher] = []
+        mat_of = np.empty(len(queries), np.int64)
+        for s, (m, _, _) in enumerate(queries):
+            if not mats or mats[-1] is not m:
+                mats.append(m)
+            mat_of[s] = len(mats) - 1
+        padded = [m.padded(n) for m in mats]
+        self.grids = [p[0] for p in padded]
+        self.group_grids = [m.group_grids for m in mats]
+        self.angles = [_headings(float(q[2][2]), angular_window, angular_step(q[1], res)) for q in queries]  # fmt: skip
+        num_h = np.array([len(a) for a in self.angles])
+        self.num_points = num_p = np.array([len(q[1]) for q in queries])
+        self.first = np.concatenate([[0], np.cumsum(num_h)])  # a search's first heading
+        search = np.repeat(np.arange(len(queries)), num_h)  # the search of each heading
+        self.search = search
+        # every heading's points turned and moved to its search's initial pose, as
+        # cartographer_matchers._point_cells computes them for one search
+        pmax = int(num_p.max())
+        xy = np.zeros((len(queries), pmax, 2))
+        for s, q in enumerate(queries):
+            xy[s, : len(q[1])] = q[1]
+        sin, cos = fmath.sincos(np.concatenate(self.angles))
+        x, y = xy[search, :, 0], xy[search, :, 1]
+        init = np.array([q[2][:2] for q in queries])[search]
+        lat = first.submap.lattice
+        inv = 1.0 / lat.resolution
+        cos, sin = cos[:, None], sin[:, None]
+        # in place, the same steps: (cos x - sin y + x0 - lattice x0) inv + 0.5, floored
+        wx, t = cos * x, sin * y
+        wx -= t
+        wx += init[:, 0:1]
+        wx -= lat.x0
+        wx *= inv
+        wx += 0.5
+        cols = np.floor(wx, out=wx).astype(np.int64)
+        wy = np.multiply(sin, x, out=wx)
+        np.multiply(cos, y, out=t)
+        wy += t
+        wy += init[:, 1:2]
+        wy -= lat.y0
+        wy *= inv
+        wy += 0.5
+        rows = np.floor(wy, out=wy).astype(np.int64)
+        # clipped into each heading's submap; a missing point reads the dead cell
+        hm = mat_of[search]
+        shape = np.array([m.shape for m in mats])
+        row0 = np.array([m.row0 for m in mats])
+        col0 = np.array([m.col0 for m in mats])
+        width = np.array([p[1] for p in padded])
+        h, w = shape[hm, 0][:, None], shape[hm, 1][:, None]
+        r, c = rows, cols
+        r -= (row0[hm] + n)[:, None]
+        c -= (col0[hm] + n)[:, None]
+        for v, top in ((r, h), (c, w)):  # np.clip, in place
+            np.maximum(v, -margin, out=v)
+            np.minimum(v, top, out=v)
+            v += margin
+        self.dead = (shape[:, 0] + margin) * width + (shape[:, 1] + margin)  # 0 at every step
+        missing = np.arange(pmax)[None, :] >= num_p[search][:, None]
+        self.missing = missing
+        base = r * width[hm][:, None]
+        base += c
+        np.copyto(base, self.dead[hm][:, None], where=missing)
         self.r, self.c = r, c
-        self.dead = (h + margin) * width + (w + margin)  # reads 0 at every step
-        self.group_grids = matcher.group_grids
-        self.base_t = np.ascontiguousarray(base.T)  # (points, headings)
-        self.width, self.n = width, n
-        self.num_points = rows.shape[1]
+        self.parts = [np.ascontiguousarray(base[:, k::_PARTS].T) for k in range(_PARTS)]
+        self.width = width[hm]  # per heading
+        self.mat_of = mat_of
+        self.mat_first = np.concatenate([[0], np.cumsum(np.bincount(hm, minlength=len(mats)))])  # fmt: skip
+        self.hm = hm
+
+    # -- the search ---------------------------------------------------------------------
+
+    def run(self, min_score: float) -> list[Match]:
+        top = self.depth - 1
+        need = np.maximum(self.least_above(min_score), self.near())  # per search
+        gneed = need[self.search]  # per heading
+        maybe = self.groups(top, need)
+        steps = np.arange(self.lattice(top))
+        a, sy, sx = (g.ravel()[maybe] for g in np.meshgrid(np.arange(len(self.search)), steps, steps, indexing="ij"))  # fmt: skip
+        parts = [self.sums(top, a, sx, sy, k) for k in range(_PARTS)]
+        total = sum(parts) if _PARTS > 1 else parts[0]
+        for depth in range(top, -1, -1):
+            keep = total >= gneed[a]
+            a, sx, sy, total = a[keep], sx[keep], sy[keep], total[keep]
+            parts = [q[keep] for q in parts]
+            if depth == 0 or not len(a):
+                break
+            a, sx, sy, parent = self.children(depth, a, sx, sy)
+            if depth - 1 in self.group_grids[0]:
+                maybe = self.group_bound(depth - 1, a, sx, sy, need)
+                a, sx, sy, parent = a[maybe], sx[maybe], sy[maybe], parent[maybe]
+            remaining, done, new = total, None, []
+            for k in range(_PARTS):
+                q = self.sums(depth - 1, a, sx, sy, k)
+                done = q if done is None else done + q
+                new.append(q)
+                if k + 1 < _PARTS:
+                    remaining = remaining - parts[k]
+                    keep = done + remaining[parent] >= gneed[a]
+                    a, sx, sy, parent, done = a[keep], sx[keep], sy[keep], parent[keep], done[keep]
+                    new = [q[keep] for q in new]
+            parts, total = new, done
+        out: list[Match] = [None] * len(self.queries)
+        if not len(a):
+            return out
+        # each search's best leaf, the first in its order among equals
+        s = self.search[a]
+        order = np.lexsort((np.arange(len(a)), -total, s))
+        firsts = order[np.flatnonzero(np.concatenate([[True], s[order][1:] != s[order][:-1]]))]  # fmt: skip
+        score = self.score(total, self.num_points[s])
+        n, res = self.n, self.res
+        for k in firsts.tolist():
+            q = int(s[k])
+            initial = self.queries[q][2]
+            heading = self.angles[q][int(a[k]) - int(self.first[q])]
+            bx, by = int(sx[k]), int(sy[k])
+            pose = np.array([initial[0] + (bx - n) * res, initial[1] + (by - n) * res, heading])
+            out[q] = (pose, float(score[k]))
+        return out
 
     def lattice(self, depth: int) -> int:
         """Lattice steps at a level: offsets -n, -n + 2^d, ... up to n."""
         return ((2 * self.n) >> depth) + 1
 
-    def children(self, depth: int, a: I64, sx: I64, sy: I64) -> tuple[I64, I64, I64]:
-        """The four sub-blocks of each candidate at `depth`, those inside the window."""
+    def children(self, depth: int, a: I64, sx: I64, sy: I64) -> tuple[I64, I64, I64, I64]:
+        """The four sub-blocks of each candidate at `depth`, those inside the window,
+        and the index of each one's parent."""
         ca = np.repeat(a, 4)
         cx = ((2 * sx)[:, None] + _QUAD_X).ravel()
         cy = ((2 * sy)[:, None] + _QUAD_Y).ravel()
         last = self.lattice(depth - 1) - 1
         ok = (cx <= last) & (cy <= last)
-        return ca[ok], cx[ok], cy[ok]
+        parent = np.repeat(np.arange(len(a)), 4)
+        return ca[ok], cx[ok], cy[ok], parent[ok]
 
-    def dive(
-        self, depth: int, a: I64, sx: I64, sy: I64, score: F64
-    ) -> tuple[tuple[int, int, int], float] | None:
-        """The best few candidates carried down to single cells: the best leaf reached."""
-        o = np.argsort(-score, kind="stable")[:_BEAM]
-        a, sx, sy = a[o], sx[o], sy[o]
-        for d in range(depth, 0, -1):
-            a, sx, sy = self.children(d, a, sx, sy)
-            score = self.scores(d - 1, a, sx, sy)
-            o = np.argsort(-score, kind="stable")[:_BEAM]
-            a, sx, sy, score = a[o], sx[o], sy[o], score[o]
-        if not len(a):
-            return None
-        return (int(a[0]), int(sx[0]), int(sy[0])), float(score[0])
-
-    def groups(self, top: int, min_score: float) -> NDArray[np.bool_]:
-        """Which top-level candidates (heading, step y, step x; flat) can score above
-        `min_score`: _GROUP headings at a time, each point's cells over the group's
-        headings lie in a box _GROUP cells wide (a heading moves the farthest point
-        about a cell), so one read of the top level's max over such boxes bounds the
-        group (a point whose box is wider counts 255)."""
-        num, steps = len(self.r), self.lattice(top)
-        groups = -(-num // _GROUP)
-        # the last group is filled up with its last heading again
-        fill = np.minimum(np.arange(groups * _GROUP), num - 1)
-        r, c = self.r[fill].reshape(groups, _GROUP, -1), self.c[fill].reshape(groups, _GROUP, -1)
-        r0, c0 = r.min(axis=1), c.min(axis=1)
-        wide = (r.max(axis=1) - r0 > _GROUP) | (c.max(axis=1) - c0 > _GROUP)
-        base = np.where(wide, self.dead, r0 * self.width + c0).astype(np.int32)
-        self.group_base_t = np.ascontiguousarray(base.T)  # (points, groups)
-        self.group_wide = 255 * wide.sum(axis=1, dtype=np.int32)
-        s = np.arange(steps, dtype=np.int32) << top
-        offset = (s[:, None] * self.width + s[None, :]).ravel()
-        idx = base[:, None, :] + offset[None, :, None]  # (groups, steps^2, points)
-        sums = np.take(self.group_grids[top], idx).sum(axis=2, dtype=np.int32)
-        sums += self.group_wide[:, None]
-        ok = self.score(sums) > min_score
-        return np.repeat(ok, _GROUP, axis=0)[:num].ravel()
-
-    def group_bound(self, depth: int, a: I64, sx: I64, sy: I64, best: float) -> NDArray[np.bool_]:
-        """Which candidates at `depth` (below the top) can score above `best`, bounded as
-        `groups` does, once for each heading group and block they share (a level's
-        survivors come ~8 headings to a block)."""
-        steps = self.lattice(depth)
-        key = (a // _GROUP * steps + sy) * steps + sx
-        keys, which = np.unique(key, return_inverse=True)  # sorted: group-major
-        g, ky, kx = keys // (steps * steps), keys // steps % steps, keys % steps
-        idx = np.repeat(self.group_base_t, np.bincount(g, minlength=self.group_base_t.shape[1]), axis=1)  # fmt: skip
-        idx += ((ky * self.width + kx) << depth).astype(np.int32)
-        sums = (
-            np.take(self.group_grids[depth], idx).sum(axis=0, dtype=np.int32) + self.group_wide[g]
-        )
-        return (self.score(sums) > best)[which.reshape(-1)]
-
-    def score(self, sums: NDArray[np.integer]) -> F64:
+    @staticmethod
+    def score(sums: NDArray[np.integer], num_points: NDArray[np.integer] | int) -> F64:
         """Scores (mean probability) of summed grid values."""
-        return MIN_PROBABILITY + sums / self.num_points * (_SPAN / 255.0)
+        return MIN_PROBABILITY + sums / num_points * (_SPAN / 255.0)
 
-    def sums(self, depth: int, a: I64, sx: I64, sy: I64) -> I32:
-        """Summed grid values of candidates at one level, `a` sorted (as every level's
-        candidates are: a heading's points are repeated for its run of candidates)."""
-        grid, base = self.grids[depth], self.base_t
-        offset = ((sy * self.width + sx) << depth).astype(np.int32)
-        sums = np.empty(len(a), np.int32)
-        batch = max(1, _LOOKUPS // self.num_points)
-        for j in range(0, len(a), batch):
-            s = slice(j, j + batch)
-            idx = np.repeat(base, np.bincount(a[s], minlength=len(self.base)), axis=1)
-            idx += offset[s]
-            sums[s] = np.take(grid, idx).sum(axis=0, dtype=np.int32)
+    def least_above(self, min_score: float) -> I64:
+        """Per search, the least sum of grid values that scores above `min_score`."""
+        out = np.empty(len(self.queries), np.int64)
+        for s, p in enumerate(self.num_points.tolist()):
+            table = self.score(np.arange(255 * p + 2), p)
+            out[s] = int(np.searchsorted(table, min_score, side="right"))
+        return out
+
+    def near(self) -> I64:
+        """Per search, the best sum of the single-cell candidates around the initial pose
+        (the middle heading and `_NEAR_HEADINGS` neighbours each way, offsets up to
+        `_NEAR_CELLS` cells): a candidate below it cannot win (see the module doc)."""
+        n = self.n
+        k = np.arange(max(n - _NEAR_CELLS, 0), min(n + _NEAR_CELLS, 2 * n) + 1)
+        num = np.diff(self.first)
+        centre = self.first[:-1] + num // 2
+        h = centre[:, None] + np.arange(-_NEAR_HEADINGS, _NEAR_HEADINGS + 1)
+        ok = (h >= self.first[:-1, None]) & (h < self.first[1:, None])
+        a, sy, sx = (g.reshape(h.size, -1)[ok.ravel()].ravel() for g in np.meshgrid(h.ravel(), k, k, indexing="ij"))  # fmt: skip
+        sums = self.sums(0, a, sx, sy)
+        starts = np.flatnonzero(np.concatenate([[True], self.search[a][1:] != self.search[a][:-1]]))  # fmt: skip
+        return np.maximum.reduceat(sums, starts).astype(np.int64)
+
+    def _take_sums(self, grids: Sequence[NDArray[np.uint8]], bounds: I64, base_t: I64, cols: I64, offset: I64) -> I32:  # fmt: skip
+        """For each candidate k, the sum over points p of grid[base_t[p, cols[k]] +
+        offset[k]], the grid its column's matcher's (columns `bounds[m]` up to
+        `bounds[m + 1]` are matcher m's); `cols` sorted."""
+        sums = np.empty(len(cols), np.int32)
+        batch = max(1, _LOOKUPS // base_t.shape[0])
+        acc = np.uint16 if base_t.shape[0] <= 257 else np.int32  # 257 x 255 < 2^16
+        at = np.searchsorted(cols, bounds)
+        for m in range(len(bounds) - 1):
+            grid = grids[m]
+            for j in range(int(at[m]), int(at[m + 1]), batch):
+                k = min(j + batch, int(at[m + 1]))
+                c = cols[j:k]
+                lo, hi = int(c[0]), int(c[-1]) + 1
+                idx = np.repeat(base_t[:, lo:hi], np.bincount(c - lo, minlength=hi - lo), axis=1)
+                idx += offset[j:k]
+                sums[j:k] = np.take(grid, idx).sum(axis=0, dtype=acc)
         return sums
 
-    def scores(self, depth: int, a: I64, sx: I64, sy: I64) -> F64:
-        """Scores of a few candidates in any order (the dive's) at one level."""
-        grid = self.grids[depth]
-        offset = ((sy * self.width + sx) << depth).astype(np.int32)[:, None]
-        sums = np.empty(len(a), np.int32)
-        batch = max(1, _LOOKUPS // self.num_points)
-        for k in range(0, len(a), batch):
-            s = slice(k, k + batch)
-            idx = np.take(self.base, a[s], axis=0)
-            idx += offset[s]
-            sums[s] = np.take(grid, idx).sum(axis=1, dtype=np.int32)
-        return self.score(sums)
+    def sums(self, depth: int, a: I64, sx: I64, sy: I64, part: int | None = None) -> I32:
+        """Summed grid values of candidates at one level, `a` sorted (as every level's
+        candidates are: a heading's points are repeated for its run of candidates)."""
+        offset = (sy * self.width[a] + sx) << depth
+        grids = [g[depth] for g in self.grids]
+        if part is None:  # every point
+            return sum(self._take_sums(grids, self.mat_first, b, a, offset) for b in self.parts)  # type: ignore[return-value]
+        return self._take_sums(grids, self.mat_first, self.parts[part], a, offset)
+
+    def groups(self, top: int, need: I64) -> NDArray[np.bool_]:
+        """Which top-level candidates (heading, step y, step x; flat) can reach their
+        search's `need`: _GROUP headings of a search at a time, each point's cells over
+        the group's headings lie in a box _GROUP cells wide (a heading moves the farthest
+        point about a cell), so one read of the top level's max over such boxes bounds
+        the group (a point whose box is wider counts 255)."""
+        num = np.diff(self.first)
+        per = -(-num // _GROUP)  # groups per search
+        self.group_first = np.concatenate([[0], np.cumsum(per)])
+        gsearch = np.repeat(np.arange(len(num)), per)
+        # the last group of a search is filled up with its last heading again
+        k = np.arange(self.group_first[-1]) - self.group_first[gsearch]
+        fill = np.minimum(self.first[gsearch, None] + k[:, None] * _GROUP + np.arange(_GROUP), self.first[gsearch + 1, None] - 1)  # fmt: skip
+        r, c = self.r[fill], self.c[fill]  # (groups, _GROUP, points)
+        r0, c0 = r.min(axis=1), c.min(axis=1)
+        wide = ((r.max(axis=1) - r0 > _GROUP) | (c.max(axis=1) - c0 > _GROUP)) & ~self.missing[fill[:, 0]]  # fmt: skip
+        gm = self.mat_of[gsearch]
+        width = self.width[fill[:, 0]]
+        base = np.where(wide | self.missing[fill[:, 0]], self.dead[gm][:, None], r0 * width[:, None] + c0)  # fmt: skip
+        self.group_base_t = np.ascontiguousarray(base.T)  # (points, groups)
+        self.group_wide = 255 * wide.sum(axis=1)
+        self.group_width = width
+        self.group_bounds = np.concatenate([[0], np.cumsum(np.bincount(gm, minlength=len(self.grids)))])  # fmt: skip
+        self.group_of = np.repeat(np.arange(len(gsearch)), np.minimum(num[gsearch] - k * _GROUP, _GROUP))  # fmt: skip
+        self.group_need = need[gsearch]
+        steps = self.lattice(top)
+        s = np.arange(steps) << top
+        g = np.repeat(np.arange(len(gsearch)), steps * steps)
+        sy, sx = np.tile(np.repeat(s, steps), len(gsearch)), np.tile(np.tile(s, steps), len(gsearch))  # fmt: skip
+        sums = self._take_sums([gg[top] for gg in self.group_grids], self.group_bounds, self.group_base_t, g, sy * width[g] + sx)  # fmt: skip
+        ok = (sums + self.group_wide[g] >= self.group_need[g]).reshape(-1, steps * steps)
+        return ok[self.group_of].ravel()
+
+    def group_bound(self, depth: int, a: I64, sx: I64, sy: I64, need: I64) -> NDArray[np.bool_]:
+        """Which candidates at `depth` (below the top) can reach their search's `need`,
+        bounded as `groups` does, once for each heading group and block they share (a
+        level's survivors come ~8 headings to a block)."""
+        steps = self.lattice(depth)
+        key = (self.group_of[a] * steps + sy) * steps + sx
+        seen = np.zeros(len(self.group_need) * steps * steps, np.int32)
+        seen[key] = 1
+        keys = np.flatnonzero(seen)  # the distinct keys, sorted: group-major
+        which = np.cumsum(seen, dtype=np.int32)[key] - 1
+        g, ky, kx = keys // (steps * steps), keys // steps % steps, keys % steps
+        offset = (ky * self.group_width[g] + kx) << depth
+        sums = self._take_sums([gg[depth] for gg in self.group_grids], self.group_bounds, self.group_base_t, g, offset)  # fmt: skip
+        return (sums + self.group_wide[g] >= self.group_need[g])[which]
 
 
 def _window_max(grid: NDArray[np.uint8], e: int) -> NDArray[np.uint8]:
