@@ -31,6 +31,8 @@ Rates are kept on the integer-nanosecond sim clock without drift: a component at
 gives exactly 10 scans per sim second. A rate above `1 / physics_dt` runs once per
 step. Nothing reads the wall clock; every random draw comes from a stream derived
 from `seed`, so the same world, seed and commands give the same run, bit for bit.
+`run_until` and `spin_for` run with the heap as it stood frozen (`core.heap`), so the
+garbage collector does not rescan the bring-up's objects mid-run.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ from ..core.clock import SimClock
 from ..core.errors import WorldError
 from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
+from ..core.heap import frozen_heap
 from ..core.messages import LaserScan, Odometry, Twist
 from ..plugins import lookup
 from ..sim.lidar import Lidar
@@ -381,20 +384,22 @@ class Runtime:
         """Step for `seconds` of sim time (rounded to whole physics steps); returns the time."""
         if seconds < 0:
             raise ValueError(f"cannot spin for a negative time ({seconds} s)")
-        for _ in range(round(seconds * 1e9 / self._dt_ns)):
-            self.step()
+        with frozen_heap():
+            for _ in range(round(seconds * 1e9 / self._dt_ns)):
+                self.step()
         return self.now
 
     def run_until(self, predicate: Callable[[], bool], timeout: float) -> bool:
         """Step until `predicate()` is true (checked before each step) or `timeout` sim
         seconds have passed; returns whether the predicate came true."""
         end_ns = self.clock.now_ns + round(timeout * 1e9)
-        while True:
-            if predicate():
-                return True
-            if self.clock.now_ns >= end_ns:
-                return False
-            self.step()
+        with frozen_heap():
+            while True:
+                if predicate():
+                    return True
+                if self.clock.now_ns >= end_ns:
+                    return False
+                self.step()
 
     def __repr__(self) -> str:
         return (
