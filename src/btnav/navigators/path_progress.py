@@ -51,6 +51,8 @@ _RADIUS = 0.03
 _AHEAD = 6
 #: Poses whose window end and length left are computed together (`_ahead`).
 _AHEAD_POSES = 8
+#: The latest search of none (`PathProgress._last`).
+_NO_SEARCH: tuple[int, float, float, float] = (-1, 0.0, 0.0, 0.0)
 #: The certificate of no scan: (first, stop, x, y, radius², limit², near) covering no window.
 _NO_CERTIFICATE: tuple[Any, ...] = (1, 0, 0.0, 0.0, -1.0, 0.0, ())
 
@@ -81,11 +83,16 @@ class PathProgress:
         # are searched among `near`, ((index, x, y), ...), while the robot is within
         # `radius²` of (x, y) and the nearest near pose within `limit²` (`_certify`)
         self._certificate = _NO_CERTIFICATE
+        # the latest search, (start, x, y, length left): odometry reports at half the
+        # tree's rate, so every other search repeats the one before it (the same start
+        # and robot, hence the same closest pose)
+        self._last: tuple[int, float, float, float] = _NO_SEARCH
 
     def reset(self) -> None:
         """A new goal: the next path starts the search from its first pose."""
         self.path = None
         self.closest = 0
+        self._last = _NO_SEARCH
 
     def _take(self, path: Path) -> None:
         """Everything that depends only on `path`, once per path."""
@@ -98,6 +105,7 @@ class PathProgress:
         self._stop = {}
         self._length_from = {}
         self._certificate = _NO_CERTIFICATE
+        self._last = _NO_SEARCH
         self._exact = xy.dtype == np.float64 and bool(np.isfinite(xy).all())
         if self._exact:
             self._xs, self._ys = self._px.tolist(), self._py.tolist()
@@ -112,6 +120,9 @@ class PathProgress:
         if path is not self.path:
             self._take(path)
         start = self.closest
+        last_start, last_x, last_y, last_remaining = self._last
+        if start == last_start and x == last_x and y == last_y:
+            return last_remaining  # (the same search: NaN never equals)
         stop = self._stop.get(start)
         if stop is None:
             self._ahead(start)
@@ -140,6 +151,7 @@ class PathProgress:
         if remaining is None:
             self._ahead(closest)
             remaining = self._length_from[closest]
+        self._last = (start, x, y, remaining)  # (repeated only if closest == start)
         return remaining
 
     def _ahead(self, first: int) -> None:
