@@ -93,7 +93,7 @@ def test_lookup_is_pose2d_algebra_bit_for_bit_signed_zeros_included():
     """The lookup's shortcuts (a root target, zero yaws) give Pose2D's bits, zeros' signs
     included, on random chains with zero, negative-zero and turned transforms."""
     rng = np.random.default_rng(7)
-    values = [0.0, -0.0, 1.5, -2.25, 1e-300, -1e-300, 3.0]
+    values = [0.0, -0.0, 1.5, -2.25, 1e-300, -1e-300, 3.0, math.inf, -math.inf, math.nan]
     for _ in range(300):
         tree = FrameTree.rep105()
 
@@ -101,7 +101,9 @@ def test_lookup_is_pose2d_algebra_bit_for_bit_signed_zeros_included():
             x, y = (float(v) for v in rng.choice(values, 2))
             if rng.random() < 0.5:
                 x, y = (float(v) for v in rng.normal(0.0, 5.0, 2))
-            yaw = float(rng.choice([0.0, -0.0, math.pi, -3.0, 0.7, float(rng.uniform(-3.1, 3.1))]))
+            yaw = float(
+                rng.choice([0.0, -0.0, math.pi, -3.0, 0.7, math.nan, float(rng.uniform(-3.1, 3.1))])
+            )
             return Pose2D(x, y, yaw)
 
         tree.set_transform("map", "odom", pick(), stamp=1.0)
