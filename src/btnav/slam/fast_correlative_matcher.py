@@ -79,6 +79,9 @@ _PARTS = 3
 #: A block's four sub-blocks, in Cartographer's order: steps added to (2 x, 2 y).
 _QUAD_X, _QUAD_Y = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
 
+#: (points, min_score) -> the least sum of grid values scoring above min_score
+_LEAST: dict[tuple[int, float], int] = {}
+
 Query = tuple["FastCorrelativeScanMatcher", F64, F64]
 Match = tuple[F64, float] | None
 
@@ -319,8 +322,11 @@ class _Batch:
         """Per search, the least sum of grid values that scores above `min_score`."""
         out = np.empty(len(self.queries), np.int64)
         for s, p in enumerate(self.num_points.tolist()):
-            table = self.score(np.arange(255 * p + 2), p)
-            out[s] = int(np.searchsorted(table, min_score, side="right"))
+            least = _LEAST.get((p, min_score))
+            if least is None:
+                table = self.score(np.arange(255 * p + 2), p)
+                least = _LEAST[(p, min_score)] = int(np.searchsorted(table, min_score, side="right"))  # fmt: skip
+            out[s] = least
         return out
 
     def near(self) -> I64:
