@@ -137,6 +137,21 @@ def test_a_parent_bounds_each_part_of_its_childrens_points(seed):
             assert (below <= above[parent]).all()
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_a_heading_groups_parent_bounds_each_part_of_its_childrens_points(seed):
+    """The same for the heading groups' candidates at the levels searched by group."""
+    batch, top = _batch(40 + seed)
+    batch.groups(np.array([0]))
+    for depth in sorted(batch.group_grids[0])[1:]:
+        steps = np.arange(batch.lattice(depth))
+        g, sy, sx = (v.ravel() for v in np.meshgrid(np.arange(len(batch.group_need)), steps, steps, indexing="ij"))  # fmt: skip
+        cg, cx, cy, parent = batch.children(depth, g, sx, sy)
+        for k in range(len(batch.parts)):
+            above = batch.group_sums(depth, g, sx, sy, k)
+            below = batch.group_sums(depth - 1, cg, cx, cy, k)
+            assert (below <= above[parent]).all()
+
+
 def test_searches_together_find_what_each_finds_alone():
     """A batch of searches over three submaps, points of different counts (a search
     with fewer points reads 0 for the rest), gives each search's own answer."""

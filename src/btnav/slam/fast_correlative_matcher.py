@@ -37,7 +37,7 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
 - A child is scored a part of the points at a time: its sum over the parts done plus
   its parent's over the parts to come bounds it (a point's cell at the parent's level
   holds the maximum over the child's block; a heading's parent is its group's
-  candidate), so most children that cannot reach the
+  candidate; a group's children are bounded by their parent the same way), so most children that cannot reach the
   bound are dropped after a third of their lookups.
 - Scoring: the levels are kept inside a margin of 2 n + 1 cells copied from their
   edges (what a clipped lookup reads), so a point's flat index at step 0, clipped once
@@ -53,7 +53,7 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -265,22 +265,7 @@ class _Batch:
         a, sx, sy, parent = self.group_headings(g, sx, sy)
         total = sum(parts) if _PARTS > 1 else parts[0]
         for depth in range(low, -1, -1):
-            # score the candidates at `depth`, a part of the points at a time: the sums
-            # done plus their parent's over the parts to come bound each one
-            remaining, done, new = total, None, []
-            for k in range(_PARTS):
-                q = self.sums(depth, a, sx, sy, k)
-                done = q if done is None else done + q
-                new.append(q)
-                if k + 1 < _PARTS:
-                    remaining = remaining - parts[k]
-                    keep = done + remaining[parent] >= gneed[a]
-                    a, sx, sy, parent, done = a[keep], sx[keep], sy[keep], parent[keep], done[keep]
-                    new = [q[keep] for q in new]
-            parts, total = new, done
-            keep = total >= gneed[a]
-            a, sx, sy, total = a[keep], sx[keep], sy[keep], total[keep]
-            parts = [q[keep] for q in parts]
+            a, sx, sy, parts, total = self.score_children(self.sums, depth, gneed, a, sx, sy, parent, parts, total)  # fmt: skip
             if depth == 0 or not len(a):
                 break
             a, sx, sy, parent = self.children(depth, a, sx, sy)
@@ -431,12 +416,34 @@ class _Batch:
         self.groups(need)
         steps = np.arange(self.lattice(top))
         g, sy, sx = (v.ravel() for v in np.meshgrid(np.arange(len(self.group_need)), steps, steps, indexing="ij"))  # fmt: skip
-        for depth in range(top, low, -1):
-            keep = self.group_sums(depth, g, sx, sy) >= self.group_need[g]
-            g, sx, sy, _ = self.children(depth, g[keep], sx[keep], sy[keep])
-        parts = [self.group_sums(low, g, sx, sy, q) for q in range(_PARTS)]
-        keep = sum(parts) >= self.group_need[g]
-        return g[keep], sx[keep], sy[keep], [q[keep] for q in parts]
+        parts = [self.group_sums(top, g, sx, sy, q) for q in range(_PARTS)]
+        total = sum(parts) if _PARTS > 1 else parts[0]
+        keep = total >= self.group_need[g]
+        g, sx, sy, total = g[keep], sx[keep], sy[keep], total[keep]
+        parts = [q[keep] for q in parts]
+        for depth in range(top - 1, low - 1, -1):
+            g, sx, sy, parent = self.children(depth + 1, g, sx, sy)
+            g, sx, sy, parts, total = self.score_children(self.group_sums, depth, self.group_need, g, sx, sy, parent, parts, total)  # fmt: skip
+        return g, sx, sy, parts
+
+    @staticmethod
+    def score_children(sums: Callable[..., NDArray[np.integer]], depth: int, need: I64, a: I64, sx: I64, sy: I64, parent: I64, parts: list[I64], total: I64) -> tuple[I64, I64, I64, list[I64], I64]:  # fmt: skip
+        """The candidates (`a` headings or groups, `sums` theirs) at `depth` that reach
+        `need[a]`, with their sums by part and in all: scored a part of the points at a
+        time, their sums over the parts done plus their parent's (`parts`, `total`) over
+        the parts to come bounding them."""
+        remaining, done, new = total, None, []
+        for k in range(_PARTS):
+            q = sums(depth, a, sx, sy, k)
+            done = q if done is None else done + q
+            new.append(q)
+            if k + 1 < _PARTS:
+                remaining = remaining - parts[k]
+                keep = done + remaining[parent] >= need[a]
+                a, sx, sy, parent, done = a[keep], sx[keep], sy[keep], parent[keep], done[keep]
+                new = [q[keep] for q in new]
+        keep = done >= need[a]
+        return a[keep], sx[keep], sy[keep], [q[keep] for q in new], done[keep]
 
     def group_headings(self, g: I64, sx: I64, sy: I64) -> tuple[I64, I64, I64, I64]:
         """Each group candidate's headings (heading, step x, step y; sorted by heading),
