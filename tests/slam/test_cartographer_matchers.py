@@ -34,31 +34,58 @@ def _scan(rng: np.random.Generator, submap: Submap, pose: np.ndarray, n: int) ->
     return np.column_stack([c * xy[:, 0] + s * xy[:, 1], -s * xy[:, 0] + c * xy[:, 1]])
 
 
-@pytest.mark.parametrize("seed", range(8))
+def _every_candidate(submap, points, prediction, options):
+    """The real-time matcher's answer by scoring every (heading, row, column)."""
+    angles = cm._headings(float(prediction[2]), options.angular_search_window, cm.angular_step(points, RES))  # fmt: skip
+    n = round(options.linear_search_window / RES)
+    rows, cols = cm._point_cells(submap, points, prediction[:2], angles)
+    size = 2 * n + 1
+    grid, r0, c0 = submap.scoring(max(size, 4))
+    # a point's window is moved into the grid whole (beyond the border every cell is 0.1)
+    top = np.clip(rows - n - r0, 0, grid.shape[0] - size)
+    left = np.clip(cols - n - c0, 0, grid.shape[1] - size)
+    d = np.arange(-n, n + 1)
+    r = top[:, None, None, :] + (d + n)[None, :, None, None]
+    c = left[:, None, None, :] + (d + n)[None, None, :, None]
+    score = cm._mean_probability(grid[r, c].sum(axis=-1, dtype=np.int64), len(points))
+    offsets = d * RES
+    cost = (
+        cm.fmath.hypot(offsets[:, None], offsets[None, :])[None] * options.translation_delta_cost_weight
+        + np.abs(angles - prediction[2])[:, None, None] * options.rotation_delta_cost_weight
+    )  # fmt: skip
+    score = score * cm.fmath.exp(-(cost * cost))
+    a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
+    return np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]]), float(score[a, i, j])  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(16))
 def test_the_bounded_search_finds_the_exhaustive_best(seed, monkeypatch):
-    """Scans of the submap's walls from near the prediction (headings far off score low
-    and are ruled out by their bounds), and random points (few are)."""
+    """Scans of the submap's walls from near the prediction (blocks of headings far off
+    score low and are ruled out by their bounds), and random points (few are); windows
+    of one block (Cartographer's 0.1 m) and of several (btnav's rescue search)."""
     rng = np.random.default_rng(seed)
     submap = _submap(rng)
     pose = np.array([(10 + rng.uniform(60, 100)) * RES, (-20 + rng.uniform(50, 90)) * RES, rng.uniform(-3, 3)])  # fmt: skip
     n = int(rng.integers(30, 120))
-    points = _scan(rng, submap, pose, n) if seed % 4 else rng.uniform(-3.0, 3.0, (n, 2))
+    walls = seed % 8 not in (0, 5)
+    points = _scan(rng, submap, pose, n) if walls else rng.uniform(-3.0, 3.0, (n, 2))
     prediction = pose + rng.normal(0.0, [0.03, 0.03, 0.05])
     options = RealTimeCorrelativeScanMatcher(
-        linear_search_window=float(rng.choice([0.05, 0.1, 0.2])),
+        linear_search_window=[0.1, 0.5, 0.2, 0.05][seed % 4],
         angular_search_window=0.35,
         translation_delta_cost_weight=0.1,
         rotation_delta_cost_weight=float(rng.choice([0.1, 1.0])),
     )
-    scored = []
-    evaluate = cm._score_headings
-    monkeypatch.setattr(cm, "_score_headings", lambda *a: scored.append(len(a[0])) or evaluate(*a))
+    scored = []  # offsets scored
+    blocks, whole = cm._score_blocks, cm._score_headings
+    monkeypatch.setattr(cm, "_score_blocks", lambda *a: scored.append(a[3].size * a[4].shape[1]) or blocks(*a))  # fmt: skip
+    monkeypatch.setattr(cm, "_score_headings", lambda *a: scored.append(len(a[0]) * a[3] ** 2) or whole(*a))  # fmt: skip
     bounded = cm.real_time_correlative_match(submap, points, prediction, options)
-    monkeypatch.setattr(cm, "_BOUND_MAX_SIZE", 0)  # every candidate scored
-    every = cm.real_time_correlative_match(submap, points, prediction, options)
+    every = _every_candidate(submap, points, prediction, options)
     assert np.array_equal(bounded[0], every[0]) and bounded[1] == every[1]
-    if seed % 4:
-        assert sum(scored[:-1]) < scored[-1] / 2  # most headings never scored
+    if walls:  # most offsets never scored
+        headings = len(cm._headings(0.0, 0.35, cm.angular_step(points, RES)))
+        assert sum(scored) < headings * (2 * round(options.linear_search_window / RES) + 1) ** 2 / 2
 
 
 def test_window_maxima_by_doubling_are_every_windows_maximum():

@@ -43,10 +43,11 @@ def _exhaustive(m: FastCorrelativeScanMatcher, level0: np.ndarray, points, initi
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_branch_and_bound_finds_the_exhaustive_best(seed):
+@pytest.mark.parametrize("depth", [4, 6])  # headings one by one from the bottom, from 3
+def test_branch_and_bound_finds_the_exhaustive_best(seed, depth):
     rng = np.random.default_rng(seed)
     submap = _submap(rng, (120, 150))
-    m = FastCorrelativeScanMatcher(submap, 4)
+    m = FastCorrelativeScanMatcher(submap, depth)
     level0 = m.levels[0].copy()
     points = rng.uniform(-2.5, 2.5, (int(rng.integers(20, 60)), 2))
     # near the grid's middle, and half off its edge (clipped lookups, the margins)
@@ -91,28 +92,35 @@ def _all(batch: _Batch, depth: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return a, sx, sy
 
 
-@pytest.mark.parametrize("seed", range(4))
-def test_the_heading_groups_never_drop_a_top_level_candidate_that_could_win(seed):
-    """Every top-level candidate reaching a sum is in a group kept at it."""
+@pytest.mark.parametrize("seed", range(6))
+def test_a_heading_group_bounds_each_part_of_its_headings_points(seed):
+    """What the search by heading group rests on: at every level it runs, a group's
+    bound of each part of the points is at least the part's sum at any of its headings
+    (the points' parts adding up to all of them)."""
     batch, top = _batch(seed)
+    batch.groups(np.array([0]))
+    for depth in sorted(batch.group_grids[0]):
+        steps = np.arange(batch.lattice(depth))
+        g, sy, sx = (v.ravel() for v in np.meshgrid(np.arange(len(batch.group_need)), steps, steps, indexing="ij"))  # fmt: skip
+        a, hx, hy, parent = batch.group_headings(g, sx, sy)
+        assert np.array_equal(hx, sx[parent]) and np.array_equal(hy, sy[parent])
+        assert np.array_equal(np.sort(a), np.repeat(np.arange(len(batch.search)), len(steps) ** 2))  # fmt: skip
+        whole = batch.group_sums(depth, g, sx, sy)
+        assert np.array_equal(whole, sum(batch.group_sums(depth, g, sx, sy, k) for k in range(len(batch.parts))))  # fmt: skip
+        assert (batch.sums(depth, a, hx, hy) <= whole[parent]).all()
+        for k in range(len(batch.parts)):
+            assert (batch.sums(depth, a, hx, hy, k) <= batch.group_sums(depth, g, sx, sy, k)[parent]).all()  # fmt: skip
+
+
+def test_the_winner_is_the_first_in_the_trees_order():
+    """`tree_order` of single-cell candidates: heading, the top lattice row by row, then
+    each level's sub-blocks (x first, then y), as the tree is walked."""
+    batch, top = _batch(30)
     a, sx, sy = _all(batch, top)
-    total = batch.sums(top, a, sx, sy)
-    parts = sum(batch.sums(top, a, sx, sy, k) for k in range(len(batch.parts)))
-    assert np.array_equal(total, parts)  # the points' parts add up to all of them
-    for t in np.quantile(total, [0.0, 0.5, 0.9, 0.99]).astype(int):
-        assert batch.groups(top, np.array([t]))[total >= t].all()
-
-
-@pytest.mark.parametrize("seed", range(3))
-def test_the_group_bound_below_the_top_never_drops_a_candidate_that_could_win(seed):
-    batch, top = _batch(10 + seed)
-    batch.groups(top, np.array([0]))
-    for depth in sorted(batch.group_grids[0])[:-1]:  # the levels below the top
-        a, sx, sy = _all(batch, depth)
-        total = batch.sums(depth, a, sx, sy)
-        for t in np.quantile(total, [0.0, 0.5, 0.9, 0.99]).astype(int):
-            batch.group_need[:] = t
-            assert batch.group_bound(depth, a, sx, sy, np.array([t]))[total >= t].all()
+    for depth in range(top, 0, -1):  # the tree's leaves in its order
+        a, sx, sy, _ = batch.children(depth, a, sx, sy)
+    key = batch.tree_order(a, sx, sy)
+    assert (np.diff(key) > 0).all()
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -126,6 +134,21 @@ def test_a_parent_bounds_each_part_of_its_childrens_points(seed):
         for k in range(len(batch.parts)):
             above = batch.sums(depth, a, sx, sy, k)
             below = batch.sums(depth - 1, ca, cx, cy, k)
+            assert (below <= above[parent]).all()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_heading_groups_parent_bounds_each_part_of_its_childrens_points(seed):
+    """The same for the heading groups' candidates at the levels searched by group."""
+    batch, top = _batch(40 + seed)
+    batch.groups(np.array([0]))
+    for depth in sorted(batch.group_grids[0])[1:]:
+        steps = np.arange(batch.lattice(depth))
+        g, sy, sx = (v.ravel() for v in np.meshgrid(np.arange(len(batch.group_need)), steps, steps, indexing="ij"))  # fmt: skip
+        cg, cx, cy, parent = batch.children(depth, g, sx, sy)
+        for k in range(len(batch.parts)):
+            above = batch.group_sums(depth, g, sx, sy, k)
+            below = batch.group_sums(depth - 1, cg, cx, cy, k)
             assert (below <= above[parent]).all()
 
 

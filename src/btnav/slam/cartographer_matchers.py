@@ -130,11 +130,13 @@ def real_time_correlative_match(
     """The best candidate around `prediction` (local frame) and its score: the first in
     (heading, row, column) order among equals.
 
-    In a small window every heading is bounded first: its points' maxima over the window
-    (`_window_max` over the part of the grid the scan covers: one lookup a point, not one
-    per offset) give a sum no offset exceeds, times its best cost factor. The headings
-    with the highest bounds are scored, then every heading whose bound reaches the best
-    score so far; the others cannot hold the best candidate (nor tie it)."""
+    The window's offsets go in blocks of up to 5 x 5 (one block for Cartographer's 0.1 m
+    window at 5 cm cells), and every (heading, block) is bounded first: the points'
+    maxima over the block (`_window_max` over the part of the grid the scan covers: one
+    lookup a point, not one per offset) give a sum no offset in it exceeds, times the
+    block's best cost factor. The best-bounded blocks are scored, then every block whose
+    bound reaches the best score so far; the others cannot hold the best candidate (nor
+    tie it)."""
     res = submap.lattice.resolution
     angles = _headings(
         float(prediction[2]), options.angular_search_window, angular_step(points, res)
@@ -156,38 +158,73 @@ def real_time_correlative_match(
     )
     weight = fmath.exp(-(cost * cost))  # (A, dy, dx)
     score = np.full(weight.shape, -np.inf)
+    # blocks: (heading, block row, block column), flat
+    side = min(size, _BLOCK)
+    nb = -(-size // side)
+    edge = nb * side  # the blocks' extent, past the window by up to side - 1
+    t0, l0 = int(top.min()), int(left.min())
+    region = grid[t0 : int(top.max()) + edge, l0 : int(left.max()) + edge]
+    want = (int(top.max()) - t0 + edge, int(left.max()) - l0 + edge)
+    if region.shape != want:  # the last blocks reach past the grid: those cells read 0
+        region = np.pad(region, [(0, want[0] - region.shape[0]), (0, want[1] - region.shape[1])])  # fmt: skip
+    peak = _window_max(region, side)
+    corner = (np.arange(nb) * side)[:, None] * peak.shape[1] + np.arange(nb) * side
+    at = (top - t0) * peak.shape[1] + (left - l0)
+    if nb > 1:
+        at = at[:, None, :] + corner.reshape(-1, 1)
+    sums = np.take(peak.reshape(-1), at).sum(axis=-1, dtype=np.int32)  # (A, blocks)
+    if nb == 1:
+        best_weight = weight.reshape(len(angles), -1).max(axis=1)
+    else:
+        padded = np.full((len(angles), edge, edge), -np.inf)
+        padded[:, :size, :size] = weight
+        best_weight = padded.reshape(len(angles), nb, side, nb, side).max(axis=(2, 4))
+    bound = (_mean_probability(sums.reshape(len(angles), -1), len(points)) * best_weight.reshape(len(angles), -1)).ravel()  # fmt: skip
     flat = grid.reshape(-1)
 
     def evaluate(pick: I64) -> None:
-        score[pick] = _score_headings(pick, base, flat, w, size) * weight[pick]
+        if nb == 1:  # the block is the window
+            score[pick] = _score_headings(base[pick], flat, w, size) * weight[pick]
+            return
+        heading, block = pick // (nb * nb), pick % (nb * nb)
+        oy = (block // nb * side)[:, None] + np.arange(side)  # (K, side) window rows
+        ox = (block % nb * side)[:, None] + np.arange(side)
+        # offsets past the window read its last row or column and are not kept
+        cy, cx = np.minimum(oy, size - 1), np.minimum(ox, size - 1)
+        got = _score_blocks(base[heading], flat, w, cy, cx)  # (K, side, side)
+        k, i, j = np.nonzero((oy < size)[:, :, None] & (ox < size)[:, None, :])
+        a, y, x = heading[k], oy[k, i], ox[k, j]
+        score[a, y, x] = got[k, i, j] * weight[a, y, x]
 
-    if size > _BOUND_MAX_SIZE:  # a wide window's bounds are too loose to rule much out
-        evaluate(np.arange(len(angles)))
-    else:
-        t0, l0 = int(top.min()), int(left.min())
-        peak = _window_max(grid[t0 : int(top.max()) + size, l0 : int(left.max()) + size], size)
-        at = (top - t0) * peak.shape[1] + (left - l0)
-        bound = _mean_probability(np.take(peak.reshape(-1), at).sum(axis=1, dtype=np.int32), len(points))  # fmt: skip
-        bound = bound * weight.reshape(len(angles), -1).max(axis=1)
-        first = np.sort(np.argsort(-bound, kind="stable")[:_FIRST_HEADINGS])
-        evaluate(first)
-        rest = bound >= score.max()
-        rest[first] = False
-        if rest.any():
-            evaluate(np.flatnonzero(rest))
+    first = np.sort(np.argsort(-bound, kind="stable")[:_FIRST_BLOCKS])
+    evaluate(first)
+    rest = bound >= score.max()
+    rest[first] = False
+    if rest.any():
+        evaluate(np.flatnonzero(rest))
     a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
     pose = np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]])
     return pose, float(score[a, i, j])
 
 
-def _score_headings(pick: I64, base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, size: int) -> F64:  # fmt: skip
-    """Mean probabilities (headings, dy, dx) of the headings `pick`: the window's cells
-    from each point's `base` index in the flat grid `w` wide."""
-    b = base[pick]
-    sums = np.empty((size, size, len(pick)), np.int32)  # (dy, dx, A): below 2^31
+def _score_headings(base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, size: int) -> F64:  # fmt: skip
+    """Mean probabilities (headings, dy, dx) of whole windows: the window's cells from
+    each point's `base` index in the flat grid `w` wide."""
+    sums = np.empty((size, size, len(base)), np.int32)  # (dy, dx, A): below 2^31
     dx = np.arange(size, dtype=np.int32)[:, None, None]
     for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
-        sums[dy] = np.take(flat, b + (dx + dy * w)).sum(axis=2, dtype=np.int32)
+        sums[dy] = np.take(flat, base + (dx + dy * w)).sum(axis=2, dtype=np.int32)
+    return _mean_probability(sums.transpose(2, 0, 1), base.shape[1])
+
+
+def _score_blocks(base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, oy: I64, ox: I64) -> F64:  # fmt: skip
+    """Mean probabilities (K, rows, columns) of K blocks: the cells at window rows
+    oy[k] and columns ox[k] from each point's `base[k]` index in the flat grid `w` wide."""
+    k, side = oy.shape
+    sums = np.empty((side, side, k), np.int32)  # (dy, dx, K): below 2^31
+    for dy in range(side):  # temporaries of a few hundred kB, not 25 x K x N
+        shift = (oy[:, dy] * w)[None, :, None] + ox.T[:, :, None]  # (dx, K, 1)
+        sums[dy] = np.take(flat, base + shift.astype(np.int32)).sum(axis=2, dtype=np.int32)
     return _mean_probability(sums.transpose(2, 0, 1), base.shape[1])
 
 
@@ -207,12 +244,11 @@ def _window_max(grid: NDArray[np.uint16], size: int) -> NDArray[np.uint16]:
     return out
 
 
-#: Headings the real-time matcher scores first (the highest bounds), for a best score
-#: that rules out the others.
-_FIRST_HEADINGS = 4
-#: The widest window (cells) whose headings are bounded first: a window of s x s offsets
-#: costs s^2 lookups a point and the bound one, but wide windows' bounds rule out little.
-_BOUND_MAX_SIZE = 9
+#: The real-time matcher's blocks of offsets: up to this many cells a side.
+_BLOCK = 5
+#: Blocks the real-time matcher scores first (the highest bounds), for a best score that
+#: rules out the others.
+_FIRST_BLOCKS = 4
 
 
 #: Catmull-Rom weights of samples -1, 0, 1, 2 as cubics in t (rows: t^0, t^1, t^2, t^3).

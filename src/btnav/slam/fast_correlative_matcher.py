@@ -24,15 +24,20 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
   initial pose (`_Batch.near`: a found match is most often within a few cells and
   headings of it), and `min_score`: a candidate below it cannot win, nor can one that
   only ties it (equal scores: the first in the tree's order, which survives too, wins).
-- Headings are bounded 8 at a time before they are scored one by one (`_Batch.groups`:
-  a point's cells over 8 neighbouring headings fit in a box 8 cells wide, and an extra
-  grid per level holds the level's maximum over such boxes): top-level candidates whose
-  group cannot reach the bound, and children of the next two levels whose group and
-  block cannot (`_Batch.group_bound`), are never scored. What is dropped could not have
-  won, so every level keeps the same survivors.
+- The top levels are searched by heading group only (`_Batch.group_descent`): 8
+  neighbouring headings of a search at a time, a point's cells over them fit in a box
+  8 cells wide, and an extra grid per level holds the level's maximum over such boxes,
+  so one read a point bounds the group (`_Batch.groups`). A group's candidate (group,
+  block) whose bound reaches the search's is split into its four sub-blocks, down to
+  the fourth level from the top; there each is split into its headings, scored one by
+  one from then on. Scoring headings one by one at the top levels dropped few (9% at
+  the top, 25% at the next on Intel's searches) for 8 times the reads. Nothing dropped
+  could have won, and the winner is picked in the tree's order (`_Batch.tree_order`),
+  so the order of the work does not change it.
 - A child is scored a part of the points at a time: its sum over the parts done plus
   its parent's over the parts to come bounds it (a point's cell at the parent's level
-  holds the maximum over the child's block), so most children that cannot reach the
+  holds the maximum over the child's block; a heading's parent is its group's
+  candidate; a group's children are bounded by their parent the same way), so most children that cannot reach the
   bound are dropped after a third of their lookups.
 - Scoring: the levels are kept inside a margin of 2 n + 1 cells copied from their
   edges (what a clipped lookup reads), so a point's flat index at step 0, clipped once
@@ -41,14 +46,14 @@ How it is computed (the result is Cartographer's; the order of the work is numpy
   of each heading repeated over its run (points x candidates: the sum runs down
   columns); a search with fewer points than the batch's most reads a cell that is 0 at
   every offset for the rest. Lookups go in batches that stay in cache. The margins and
-  group grids cost memory: ~16 MB a finished submap of Intel's (650 x 690 cells)
+  group grids cost memory: ~17 MB a finished submap of Intel's (650 x 690 cells)
   instead of ~3.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -66,9 +71,9 @@ _LOOKUPS = 1 << 17
 _SEARCHES = 16
 #: Headings bounded together above the top level (see `_Batch.groups`).
 _GROUP = 8
-#: The levels from the top down whose children are bounded by heading group first
-#: (`_Batch.group_bound`; one extra grid each per submap).
-_GROUP_LEVELS = 3
+#: The levels from the top down searched by heading group only (`_Batch.group_descent`;
+#: one extra grid each per submap): below them, heading by heading.
+_GROUP_LEVELS = 4
 #: The candidates around the initial pose scored first (`_Batch.near`): offsets up to
 #: this many cells and headings up to this many steps each way.
 _NEAR_CELLS, _NEAR_HEADINGS = 1, 1
@@ -78,6 +83,9 @@ _NEAR_CELLS, _NEAR_HEADINGS = 1, 1
 _PARTS = 3
 #: A block's four sub-blocks, in Cartographer's order: steps added to (2 x, 2 y).
 _QUAD_X, _QUAD_Y = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
+
+#: (points, min_score) -> the least sum of grid values scoring above min_score
+_LEAST: dict[tuple[int, float], int] = {}
 
 Query = tuple["FastCorrelativeScanMatcher", F64, F64]
 Match = tuple[F64, float] | None
@@ -249,40 +257,24 @@ class _Batch:
 
     def run(self, min_score: float) -> list[Match]:
         top = self.depth - 1
+        low = max(top - _GROUP_LEVELS + 1, 0)  # the first level scored heading by heading
         need = np.maximum(self.least_above(min_score), self.near())  # per search
         gneed = need[self.search]  # per heading
-        maybe = self.groups(top, need)
-        steps = np.arange(self.lattice(top))
-        a, sy, sx = (g.ravel()[maybe] for g in np.meshgrid(np.arange(len(self.search)), steps, steps, indexing="ij"))  # fmt: skip
-        parts = [self.sums(top, a, sx, sy, k) for k in range(_PARTS)]
+        # heading groups from the top down to `low`, then their headings
+        g, sx, sy, parts = self.group_descent(top, low, need)
+        a, sx, sy, parent = self.group_headings(g, sx, sy)
         total = sum(parts) if _PARTS > 1 else parts[0]
-        for depth in range(top, -1, -1):
-            keep = total >= gneed[a]
-            a, sx, sy, total = a[keep], sx[keep], sy[keep], total[keep]
-            parts = [q[keep] for q in parts]
+        for depth in range(low, -1, -1):
+            a, sx, sy, parts, total = self.score_children(self.sums, depth, gneed, a, sx, sy, parent, parts, total)  # fmt: skip
             if depth == 0 or not len(a):
                 break
             a, sx, sy, parent = self.children(depth, a, sx, sy)
-            if depth - 1 in self.group_grids[0]:
-                maybe = self.group_bound(depth - 1, a, sx, sy, need)
-                a, sx, sy, parent = a[maybe], sx[maybe], sy[maybe], parent[maybe]
-            remaining, done, new = total, None, []
-            for k in range(_PARTS):
-                q = self.sums(depth - 1, a, sx, sy, k)
-                done = q if done is None else done + q
-                new.append(q)
-                if k + 1 < _PARTS:
-                    remaining = remaining - parts[k]
-                    keep = done + remaining[parent] >= gneed[a]
-                    a, sx, sy, parent, done = a[keep], sx[keep], sy[keep], parent[keep], done[keep]
-                    new = [q[keep] for q in new]
-            parts, total = new, done
         out: list[Match] = [None] * len(self.queries)
         if not len(a):
             return out
         # each search's best leaf, the first in its order among equals
         s = self.search[a]
-        order = np.lexsort((np.arange(len(a)), -total, s))
+        order = np.lexsort((self.tree_order(a, sx, sy), -total, s))
         firsts = order[np.flatnonzero(np.concatenate([[True], s[order][1:] != s[order][:-1]]))]  # fmt: skip
         score = self.score(total, self.num_points[s])
         n, res = self.n, self.res
@@ -319,8 +311,11 @@ class _Batch:
         """Per search, the least sum of grid values that scores above `min_score`."""
         out = np.empty(len(self.queries), np.int64)
         for s, p in enumerate(self.num_points.tolist()):
-            table = self.score(np.arange(255 * p + 2), p)
-            out[s] = int(np.searchsorted(table, min_score, side="right"))
+            least = _LEAST.get((p, min_score))
+            if least is None:
+                table = self.score(np.arange(255 * p + 2), p)
+                least = _LEAST[(p, min_score)] = int(np.searchsorted(table, min_score, side="right"))  # fmt: skip
+            out[s] = least
         return out
 
     def near(self) -> I64:
@@ -366,18 +361,26 @@ class _Batch:
             return sum(self._take_sums(grids, self.mat_first, b, a, offset) for b in self.parts)  # type: ignore[return-value]
         return self._take_sums(grids, self.mat_first, self.parts[part], a, offset)
 
-    def groups(self, top: int, need: I64) -> NDArray[np.bool_]:
-        """Which top-level candidates (heading, step y, step x; flat) can reach their
-        search's `need`: _GROUP headings of a search at a time, each point's cells over
-        the group's headings lie in a box _GROUP cells wide (a heading moves the farthest
-        point about a cell), so one read of the top level's max over such boxes bounds
-        the group (a point whose box is wider counts 255)."""
+    def tree_order(self, a: I64, sx: I64, sy: I64) -> I64:
+        """Single-cell candidates' places in the tree's order: heading, the top level's
+        lattice (row by row), then each level's sub-block (Cartographer's order)."""
+        top = self.depth - 1
+        steps = self.lattice(top)
+        key = (a * steps + (sy >> top)) * steps + (sx >> top)
+        for d in range(top - 1, -1, -1):
+            key = key * 4 + ((sy >> d) & 1) * 2 + ((sx >> d) & 1)
+        return key
+
+    def groups(self, need: I64) -> None:
+        """The heading groups: _GROUP headings of a search at a time (its last group
+        filled up with its last heading again). A point's cells over a group's headings
+        lie in a box _GROUP cells wide (a heading moves the farthest point about a cell),
+        so one read of a level's maximum over such boxes bounds the point at every
+        heading of the group (a point whose box is wider reads 0 and counts 255)."""
         num = np.diff(self.first)
         per = -(-num // _GROUP)  # groups per search
-        self.group_first = np.concatenate([[0], np.cumsum(per)])
         gsearch = np.repeat(np.arange(len(num)), per)
-        # the last group of a search is filled up with its last heading again
-        k = np.arange(self.group_first[-1]) - self.group_first[gsearch]
+        k = np.arange(int(per.sum())) - np.repeat(np.cumsum(per) - per, per)
         fill = np.minimum(self.first[gsearch, None] + k[:, None] * _GROUP + np.arange(_GROUP), self.first[gsearch + 1, None] - 1)  # fmt: skip
         r, c = self.r[fill], self.c[fill]  # (groups, _GROUP, points)
         r0, c0 = r.min(axis=1), c.min(axis=1)
@@ -386,33 +389,71 @@ class _Batch:
         width = self.width[fill[:, 0]]
         base = np.where(wide | self.missing[fill[:, 0]], self.dead[gm][:, None], r0 * width[:, None] + c0)  # fmt: skip
         self.group_base_t = np.ascontiguousarray(base.T)  # (points, groups)
+        self.group_parts_t = [np.ascontiguousarray(base[:, q::_PARTS].T) for q in range(_PARTS)]
         self.group_wide = 255 * wide.sum(axis=1)
+        self.group_wide_parts = [255 * wide[:, q::_PARTS].sum(axis=1) for q in range(_PARTS)]
         self.group_width = width
         self.group_bounds = np.concatenate([[0], np.cumsum(np.bincount(gm, minlength=len(self.grids)))])  # fmt: skip
-        self.group_of = np.repeat(np.arange(len(gsearch)), np.minimum(num[gsearch] - k * _GROUP, _GROUP))  # fmt: skip
         self.group_need = need[gsearch]
-        steps = self.lattice(top)
-        s = np.arange(steps) << top
-        g = np.repeat(np.arange(len(gsearch)), steps * steps)
-        sy, sx = np.tile(np.repeat(s, steps), len(gsearch)), np.tile(np.tile(s, steps), len(gsearch))  # fmt: skip
-        sums = self._take_sums([gg[top] for gg in self.group_grids], self.group_bounds, self.group_base_t, g, sy * width[g] + sx)  # fmt: skip
-        ok = (sums + self.group_wide[g] >= self.group_need[g]).reshape(-1, steps * steps)
-        return ok[self.group_of].ravel()
+        self.group_start = self.first[gsearch] + k * _GROUP  # a group's first heading
+        self.group_size = np.minimum(num[gsearch] - k * _GROUP, _GROUP)
 
-    def group_bound(self, depth: int, a: I64, sx: I64, sy: I64, need: I64) -> NDArray[np.bool_]:
-        """Which candidates at `depth` (below the top) can reach their search's `need`,
-        bounded as `groups` does, once for each heading group and block they share (a
-        level's survivors come ~8 headings to a block)."""
-        steps = self.lattice(depth)
-        key = (self.group_of[a] * steps + sy) * steps + sx
-        seen = np.zeros(len(self.group_need) * steps * steps, np.int32)
-        seen[key] = 1
-        keys = np.flatnonzero(seen)  # the distinct keys, sorted: group-major
-        which = np.cumsum(seen, dtype=np.int32)[key] - 1
-        g, ky, kx = keys // (steps * steps), keys // steps % steps, keys % steps
-        offset = (ky * self.group_width[g] + kx) << depth
-        sums = self._take_sums([gg[depth] for gg in self.group_grids], self.group_bounds, self.group_base_t, g, offset)  # fmt: skip
-        return (sums + self.group_wide[g] >= self.group_need[g])[which]
+    def group_sums(self, depth: int, g: I64, sx: I64, sy: I64, part: int | None = None) -> I64:
+        """Bounds of heading groups' candidates at a level (`g` sorted): each one's sum
+        at every heading of its group is at most this (see `groups`)."""
+        offset = (sy * self.group_width[g] + sx) << depth
+        grids = [gg[depth] for gg in self.group_grids]
+        if part is None:
+            base_t, wide = self.group_base_t, self.group_wide
+        else:
+            base_t, wide = self.group_parts_t[part], self.group_wide_parts[part]
+        return self._take_sums(grids, self.group_bounds, base_t, g, offset) + wide[g]
+
+    def group_descent(self, top: int, low: int, need: I64) -> tuple[I64, I64, I64, list[I64]]:
+        """The heading groups' candidates (group, step x, step y) from the top level down
+        to `low` whose bounds reach their search's `need` at every level, and their
+        bounds at `low` by part of the points."""
+        self.groups(need)
+        steps = np.arange(self.lattice(top))
+        g, sy, sx = (v.ravel() for v in np.meshgrid(np.arange(len(self.group_need)), steps, steps, indexing="ij"))  # fmt: skip
+        parts = [self.group_sums(top, g, sx, sy, q) for q in range(_PARTS)]
+        total = sum(parts) if _PARTS > 1 else parts[0]
+        keep = total >= self.group_need[g]
+        g, sx, sy, total = g[keep], sx[keep], sy[keep], total[keep]
+        parts = [q[keep] for q in parts]
+        for depth in range(top - 1, low - 1, -1):
+            g, sx, sy, parent = self.children(depth + 1, g, sx, sy)
+            g, sx, sy, parts, total = self.score_children(self.group_sums, depth, self.group_need, g, sx, sy, parent, parts, total)  # fmt: skip
+        return g, sx, sy, parts
+
+    @staticmethod
+    def score_children(sums: Callable[..., NDArray[np.integer]], depth: int, need: I64, a: I64, sx: I64, sy: I64, parent: I64, parts: list[I64], total: I64) -> tuple[I64, I64, I64, list[I64], I64]:  # fmt: skip
+        """The candidates (`a` headings or groups, `sums` theirs) at `depth` that reach
+        `need[a]`, with their sums by part and in all: scored a part of the points at a
+        time, their sums over the parts done plus their parent's (`parts`, `total`) over
+        the parts to come bounding them."""
+        remaining, done, new = total, None, []
+        for k in range(_PARTS):
+            q = sums(depth, a, sx, sy, k)
+            done = q if done is None else done + q
+            new.append(q)
+            if k + 1 < _PARTS:
+                remaining = remaining - parts[k]
+                keep = done + remaining[parent] >= need[a]
+                a, sx, sy, parent, done = a[keep], sx[keep], sy[keep], parent[keep], done[keep]
+                new = [q[keep] for q in new]
+        keep = done >= need[a]
+        return a[keep], sx[keep], sy[keep], [q[keep] for q in new], done[keep]
+
+    def group_headings(self, g: I64, sx: I64, sy: I64) -> tuple[I64, I64, I64, I64]:
+        """Each group candidate's headings (heading, step x, step y; sorted by heading),
+        and the index of each one's group candidate."""
+        size = self.group_size[g]
+        parent = np.repeat(np.arange(len(g)), size)
+        a = self.group_start[g][parent] + (np.arange(len(parent)) - np.repeat(np.cumsum(size) - size, size))  # fmt: skip
+        order = np.argsort(a, kind="stable")
+        parent = parent[order]
+        return a[order], sx[parent], sy[parent], parent
 
 
 def _window_max(grid: NDArray[np.uint8], e: int) -> NDArray[np.uint8]:
