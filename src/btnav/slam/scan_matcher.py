@@ -413,7 +413,7 @@ class ScanMatcher:
         if best < KT_TOLERANCE:
             return math.pi**2
         probs = search.response.max(axis=(1, 2))
-        near = probs >= best - _COVARIANCE_WINDOW
+        near = probs >= best - COVARIANCE_WINDOW
         w = probs[near]
         d = normalize_angle(search.angles[near] - search.mean[2])
         norm = w.sum()
