@@ -109,6 +109,18 @@ FUSE_BELOW_RESPONSE = 0.7
 #: pass (Freiburg 079: a 1.4-degree fusion at 1987 s refused the closure to 1226 s,
 #: 6.82 -> 13.16 cm; with this test 6.96 cm)...
 ODOMETRY_RATIO = 0.25
+#: ... and only for odometry that, by the learnt model, turns less over a straight step
+#: of `minimum_travel_distance` (one node's travel) than this many fine angular steps of
+#: the matcher (`fine_search_angle_offset`: 0.2 degrees with slam_toolbox's defaults):
+#: odometry surer of the heading than the matcher can resolve. Elsewhere Karto's match
+#: stands alone: a fusion's nudge of a degree or so changes which loop closures pass,
+#: and Karto's closure decisions are not robust to that (Intel: two fusions of 1.5 and
+#: 0.5 degrees at nodes 619 and 857 let a closure 3 m wrong through at node 939, 3.61 ->
+#: 7.08 cm; FR079 6.84 -> 7.06 from two, ACES from three). Learnt over each benchmark
+#: log once trusted (`OdometryNoise.trusted`), in degrees per 0.5 m: the hospital
+#: 0.143-0.147, ACES 0.36-0.68, Freiburg 079 0.43-0.72, Intel 1.7-2.2, MIT CSAIL 1.9-6.2.
+#: With `minimum_travel_distance` 0 (scans on time only) every odometry passes.
+ODOMETRY_FINE_STEPS = 1.0
 #: ... and unless they disagree beyond this chi-square (3 dof, 99%): the match is kept.
 ODOMETRY_GATE = 11.34
 #: A sequential match at or above this response teaches `OdometryNoise` (good matches
@@ -363,8 +375,16 @@ class Mapper:
         the coarse search's spread (`MatchResult.heading_variance`: Karto's angular
         covariance sees only the fine search's +-1 degree, so a scan that fits about as
         well 10 degrees off looks certain). The match alone is kept where the odometry
-        is not clearly surer of the heading (`ODOMETRY_RATIO`) or the two disagree
-        (`ODOMETRY_GATE`). The fused covariance is the edge's to the previous node."""
+        turns more per step than the matcher resolves (`ODOMETRY_FINE_STEPS`), is not
+        clearly surer of the heading than the match (`ODOMETRY_RATIO`) or the two
+        disagree (`ODOMETRY_GATE`). The fused covariance is the edge's to the previous node."""
+        p = self.params
+        per_metre = self.odometry_noise.per_unit()[0]
+        if (
+            per_metre * p.minimum_travel_distance
+            >= ODOMETRY_FINE_STEPS * p.fine_search_angle_offset
+        ):
+            return result.pose, result.covariance
         odo = self.odometry_noise.covariance(increment)
         match = np.array(result.covariance, float)
         match[2, 2] = max(match[2, 2], result.heading_variance)
