@@ -144,6 +144,10 @@ class MatchResult:
     pose: F64  # (3,) x, y, yaw of the robot (base frame) in the map frame
     covariance: F64  # (3, 3)
     response: float  # 0..1 (after penalties when penalised)
+    #: rad^2: the spread of the coarse search's headings whose best response is near the
+    #: best (btnav's, see `ScanMatcher._heading_variance`); Karto's angular covariance
+    #: (`covariance[2, 2]`) sees only the fine search's +-half a coarse step.
+    heading_variance: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -213,7 +217,7 @@ class ScanMatcher:
         pts = pts[np.isfinite(pts).all(axis=1)]
         if pts.shape[0] == 0:
             cov = np.diag([MAX_VARIANCE, MAX_VARIANCE, 4.0 * p.coarse_angle_resolution**2])
-            return MatchResult(g.copy(), cov, 0.0)
+            return MatchResult(g.copy(), cov, 0.0, math.pi**2)
 
         res = p.search_space_resolution
         if grid is None:
@@ -238,6 +242,7 @@ class ScanMatcher:
                 if abs(search.best) > KT_TOLERANCE:
                     break
         cov = self._positional_covariance(search, g, 2.0 * res)
+        heading_variance = self._heading_variance(search)
         mean, best = search.mean, search.best
 
         if refine:
@@ -250,7 +255,7 @@ class ScanMatcher:
             )  # fmt: skip
             cov[2, 2] = self._angular_covariance(grid, pts, fine)
             mean, best = fine.mean, fine.best
-        return MatchResult(mean, cov, min(best, 1.0))
+        return MatchResult(mean, cov, min(best, 1.0), max(heading_variance, float(cov[2, 2])))
 
     def correlation_grid(
         self,
@@ -394,6 +399,26 @@ class ScanMatcher:
         if abs(cov[1, 1]) <= KT_TOLERANCE:
             cov[1, 1] = MAX_VARIANCE
         return cov
+
+    def _heading_variance(self, search: _Search) -> float:
+        """The coarse search's heading spread, as `_positional_covariance` takes the
+        translations': the headings whose best response over translations is within
+        0.1 of the best, weighted by it, about the mean heading, inflated by 1 / best
+        response and floored at 0.1 step^2. A scan that matches about as well turned
+        10 degrees either way (a corridor seen end-on, a room half in view) has a wide
+        spread; Karto's angular covariance, over the fine search's +-1 degree, cannot
+        say so."""
+        p = self.params
+        best = search.best
+        if best < KT_TOLERANCE:
+            return math.pi**2
+        probs = search.response.max(axis=(1, 2))
+        near = probs >= best - COVARIANCE_WINDOW
+        w = probs[near]
+        d = normalize_angle(search.angles[near] - search.mean[2])
+        norm = w.sum()
+        var = (d * d * w).sum() / norm if norm > KT_TOLERANCE else math.pi**2
+        return max(float(var), 0.1 * p.coarse_angle_resolution**2) / best
 
     def _angular_covariance(self, grid: CorrelationGrid, pts: F64, fine: _Search) -> float:
         """Karto's ComputeAngularCovariance: the spread of the fine headings' responses
