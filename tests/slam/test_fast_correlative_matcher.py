@@ -97,7 +97,7 @@ def test_a_heading_group_bounds_each_part_of_its_headings_points(seed):
     """What the search by heading group rests on: at every level it runs, a group's
     bound of each part of the points is at least the part's sum at any of its headings
     (the points' parts adding up to all of them)."""
-    batch, top = _batch(seed)
+    batch, _ = _batch(seed)
     batch.groups(np.array([0]))
     for depth in sorted(batch.group_grids[0]):
         steps = np.arange(batch.lattice(depth))
@@ -140,7 +140,7 @@ def test_a_parent_bounds_each_part_of_its_childrens_points(seed):
 @pytest.mark.parametrize("seed", range(3))
 def test_a_heading_groups_parent_bounds_each_part_of_its_childrens_points(seed):
     """The same for the heading groups' candidates at the levels searched by group."""
-    batch, top = _batch(40 + seed)
+    batch, _ = _batch(40 + seed)
     batch.groups(np.array([0]))
     for depth in sorted(batch.group_grids[0])[1:]:
         steps = np.arange(batch.lattice(depth))
