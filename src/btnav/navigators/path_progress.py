@@ -22,6 +22,8 @@ past its end) measured or jumped over as further. From anywhere within `_RADIUS`
 where the scan ran those others are no nearer than that reach less `_RADIUS`, so while
 a near pose of the window is nearer than that, the first minimum over the near poses
 (measured in order, with the scan's arithmetic) is the first minimum over the window.
+And every other search repeats the one before (odometry reports at half the tree's
+rate): the same start and robot give the same answer, kept.
 """
 
 from __future__ import annotations
@@ -92,7 +94,6 @@ class PathProgress:
         """A new goal: the next path starts the search from its first pose."""
         self.path = None
         self.closest = 0
-        self._last = _NO_SEARCH
 
     def _take(self, path: Path) -> None:
         """Everything that depends only on `path`, once per path."""
