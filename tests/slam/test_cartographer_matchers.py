@@ -77,9 +77,8 @@ def test_the_bounded_search_finds_the_exhaustive_best(seed, monkeypatch):
         rotation_delta_cost_weight=float(rng.choice([0.1, 1.0])),
     )
     scored = []  # offsets scored
-    blocks, whole = cm._score_blocks, cm._score_headings
+    blocks = cm._score_blocks
     monkeypatch.setattr(cm, "_score_blocks", lambda *a: scored.append(a[3].size * a[4].shape[1]) or blocks(*a))  # fmt: skip
-    monkeypatch.setattr(cm, "_score_headings", lambda *a: scored.append(len(a[0]) * a[3] ** 2) or whole(*a))  # fmt: skip
     bounded = cm.real_time_correlative_match(submap, points, prediction, options)
     every = _every_candidate(submap, points, prediction, options)
     assert np.array_equal(bounded[0], every[0]) and bounded[1] == every[1]

@@ -169,23 +169,15 @@ def real_time_correlative_match(
         region = np.pad(region, [(0, want[0] - region.shape[0]), (0, want[1] - region.shape[1])])  # fmt: skip
     peak = _window_max(region, side)
     corner = (np.arange(nb) * side)[:, None] * peak.shape[1] + np.arange(nb) * side
-    at = (top - t0) * peak.shape[1] + (left - l0)
-    if nb > 1:
-        at = at[:, None, :] + corner.reshape(-1, 1)
+    at = ((top - t0) * peak.shape[1] + (left - l0))[:, None, :] + corner.reshape(-1, 1)
     sums = np.take(peak.reshape(-1), at).sum(axis=-1, dtype=np.int32)  # (A, blocks)
-    if nb == 1:
-        best_weight = weight.reshape(len(angles), -1).max(axis=1)
-    else:
-        padded = np.full((len(angles), edge, edge), -np.inf)
-        padded[:, :size, :size] = weight
-        best_weight = padded.reshape(len(angles), nb, side, nb, side).max(axis=(2, 4))
+    padded = np.full((len(angles), edge, edge), -np.inf)
+    padded[:, :size, :size] = weight
+    best_weight = padded.reshape(len(angles), nb, side, nb, side).max(axis=(2, 4))
     bound = (_mean_probability(sums.reshape(len(angles), -1), len(points)) * best_weight.reshape(len(angles), -1)).ravel()  # fmt: skip
     flat = grid.reshape(-1)
 
     def evaluate(pick: I64) -> None:
-        if nb == 1:  # the block is the window
-            score[pick] = _score_headings(base[pick], flat, w, size) * weight[pick]
-            return
         heading, block = pick // (nb * nb), pick % (nb * nb)
         oy = (block // nb * side)[:, None] + np.arange(side)  # (K, side) window rows
         ox = (block % nb * side)[:, None] + np.arange(side)
@@ -205,16 +197,6 @@ def real_time_correlative_match(
     a, i, j = np.unravel_index(int(np.argmax(score)), score.shape)
     pose = np.array([prediction[0] + offsets[j], prediction[1] + offsets[i], angles[a]])
     return pose, float(score[a, i, j])
-
-
-def _score_headings(base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, size: int) -> F64:  # fmt: skip
-    """Mean probabilities (headings, dy, dx) of whole windows: the window's cells from
-    each point's `base` index in the flat grid `w` wide."""
-    sums = np.empty((size, size, len(base)), np.int32)  # (dy, dx, A): below 2^31
-    dx = np.arange(size, dtype=np.int32)[:, None, None]
-    for dy in range(size):  # temporaries of a few hundred kB, not 25 x A x N int64
-        sums[dy] = np.take(flat, base + (dx + dy * w)).sum(axis=2, dtype=np.int32)
-    return _mean_probability(sums.transpose(2, 0, 1), base.shape[1])
 
 
 def _score_blocks(base: NDArray[np.int32], flat: NDArray[np.uint16], w: int, oy: I64, ox: I64) -> F64:  # fmt: skip
