@@ -36,7 +36,7 @@ def drive():
 
 
 def closure(pose: np.ndarray) -> MatchResult:
-    return MatchResult(np.asarray(pose, float), np.diag([4e-3, 4e-3, 1e-4]), 0.9)
+    return MatchResult(np.asarray(pose, float), np.diag([4e-3, 4e-3, 1e-4]), 0.9, 1e-4)
 
 
 def test_a_closure_the_graph_cannot_hold_is_taken_back(drive):
@@ -84,7 +84,7 @@ def _two_chains(mapper, monkeypatch, poses):
 
     def fine(points, guess, reference, **kwargs):
         if np.array_equal(guess, mapper.graph.poses[-1]):
-            return MatchResult(np.array(guess, float), np.diag([4e-3, 4e-3, 1e-4]), 0.5)
+            return MatchResult(np.array(guess, float), np.diag([4e-3, 4e-3, 1e-4]), 0.5, 1e-4)
         return closure(guess)
 
     found = iter(poses)

@@ -387,7 +387,7 @@ class Mapper:
             return result.pose, result.covariance
         odo = self.odometry_noise.covariance(increment)
         match = np.array(result.covariance, float)
-        match[2, 2] = max(match[2, 2], result.heading_variance)
+        match[2, 2] = result.heading_variance  # (never below Karto's angular variance)
         if odo[2, 2] > ODOMETRY_RATIO * match[2, 2]:
             return result.pose, result.covariance
         delta = np.asarray(result.pose, float) - prediction

@@ -146,8 +146,9 @@ class MatchResult:
     response: float  # 0..1 (after penalties when penalised)
     #: rad^2: the spread of the coarse search's headings whose best response is near the
     #: best (btnav's, see `ScanMatcher._heading_variance`); Karto's angular covariance
-    #: (`covariance[2, 2]`) sees only the fine search's +-half a coarse step.
-    heading_variance: float = 0.0
+    #: (`covariance[2, 2]`, never above this) sees only the fine search's +-half a coarse
+    #: step.
+    heading_variance: float
 
 
 @dataclass(frozen=True)
