@@ -40,7 +40,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..core import fmath
 from ..core.errors import BtnavWarning
 from ..core.geometry import Pose2D, compose_arrays, normalize_angle, relative_arrays
 from ..core.messages import LaserScan, PoseWithCovariance
@@ -58,18 +57,7 @@ from .cartographer_matchers import (
 from .cartographer_options import CartographerConfig, TrajectoryBuilder2D
 from .cartographer_options import PoseGraph as PoseGraphOptions
 from .fast_correlative_matcher import FastCorrelativeScanMatcher, match_batch
-from .graph_solver import NormalEquations, assemble
-from .pose_graph import (
-    LAMBDA_FACTOR,
-    LAMBDA_INITIAL,
-    LAMBDA_MAX,
-    LAMBDA_MIN,
-    NEGLIGIBLE_ERROR_PER_EDGE,
-    PoseGraph,
-    edge_errors,
-    jacobians,
-    symbolic_factor,
-)
+from .pose_graph import PoseGraph, optimize_poses
 from .submaps import ActiveSubmaps, RangeData, Submap, assemble_map
 
 F64 = NDArray[np.float64]
@@ -107,16 +95,6 @@ def _information(translation_weight: float, rotation_weight: float) -> F64:
     return np.diag([translation_weight**2, translation_weight**2, rotation_weight**2])
 
 
-def huber(s: F64, scale: float) -> tuple[F64, F64]:
-    """Ceres's HuberLoss at squared residual norms `s`: rho(s) (s up to scale^2, then
-    2 scale sqrt(s) - scale^2) and its derivative rho'(s) (1, then scale / sqrt(s))."""
-    norm = np.sqrt(np.maximum(s, 0.0))
-    outer = norm > scale
-    rho = np.where(outer, 2.0 * scale * norm - scale * scale, s)
-    weight = np.where(outer, scale / np.maximum(norm, scale), 1.0)
-    return rho, weight
-
-
 def optimize_huber(
     poses: F64,
     i: NDArray[np.int64],
@@ -126,58 +104,11 @@ def optimize_huber(
     loops: NDArray[np.int64],
     scale: float,
     max_iterations: int,
-    tolerance: float = 1e-6,
 ) -> F64:
     """Levenberg-Marquardt over the graph (node 0 fixed) with Huber's loss on the edges
-    `loops`, as Ceres minimises Cartographer's problem: the cost is sum rho(r^T L r) over
-    the closures plus r^T L r over the other edges, and every linearisation weighs each
-    closure's information by rho' at its residual (Ceres's Corrector: Huber's rho'' is
-    never positive, so the residual and Jacobian are scaled by sqrt(rho'), no curvature
-    term). One solve; the steps, damping and stopping rule are `optimize_poses`'s."""
-    x = np.array(poses, dtype=np.float64)
-    pattern, chol = symbolic_factor(x.shape[0], i, j)
-
-    def cost(e: F64) -> float:
-        e = e.copy()
-        e[loops] = huber(e[loops], scale)[0]
-        return float(e.sum()) if e.size else 0.0
-
-    def linearise(x: F64) -> NormalEquations:
-        r, a, b = jacobians(x, i, j, z)
-        weighted = info
-        if loops.size:
-            rl = r[loops]
-            s = fmath.dot_rows(rl, fmath.matmul_k(info[loops], rl[:, :, None])[:, :, 0])
-            weighted = info.copy()
-            weighted[loops] *= huber(s, scale)[1][:, None, None]
-        return assemble(pattern, a, b, weighted, r, 0)
-
-    err = cost(edge_errors(x, i, j, z, info))
-    negligible = NEGLIGIBLE_ERROR_PER_EDGE * max(i.size, 1)
-    if err <= negligible:
-        return x
-    lam = LAMBDA_INITIAL
-    system = linearise(x)
-    for _ in range(max_iterations):
-        factors = chol.factor(system, system.damped_diag(lam))
-        dx = None if factors is None else chol.solve(factors, -system.grad)
-        err_new = np.inf
-        if dx is not None and np.isfinite(dx).all():
-            trial = x + dx
-            trial[:, 2] = normalize_angle(trial[:, 2])
-            trial[0] = x[0]
-            err_new = cost(edge_errors(trial, i, j, z, info))
-        if err_new < err:
-            decrease = err - err_new
-            x, err = trial, err_new
-            lam = max(lam / LAMBDA_FACTOR, LAMBDA_MIN)
-            if decrease <= tolerance * (err + decrease) or err <= negligible:
-                break
-            system = linearise(x)
-        elif lam >= LAMBDA_MAX:
-            break
-        else:
-            lam = min(lam * LAMBDA_FACTOR, LAMBDA_MAX)
+    `loops`, as Ceres minimises Cartographer's problem: one solve (`optimize_poses`),
+    each linearisation weighing a closure by rho' at its residual."""
+    x, _ = optimize_poses(poses, i, j, z, info, max_iterations=max_iterations, huber=(loops, scale))  # fmt: skip
     return x
 
 

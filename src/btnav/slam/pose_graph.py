@@ -29,6 +29,7 @@ from btnav.core.suggest import best_match
 from .graph_solver import (
     BlockCholesky,
     BlockPattern,
+    NormalEquations,
     assemble,
     cholesky_3x3,
     lower_inverse_3x3,
@@ -138,7 +139,7 @@ def optimize_poses(
     max_iterations: int = 20,
     tolerance: float = 1e-6,
     linear_solver: LinearSolver = "cholesky",
-    symbolic: tuple[BlockPattern, BlockCholesky] | None = None,
+    huber: tuple[I64, float] | None = None,
 ) -> tuple[F64, SolveReport]:
     """Levenberg-Marquardt from `poses`; the new poses and a report.
 
@@ -148,24 +149,41 @@ def optimize_poses(
     it, or the error is rounding noise, or no damping finds a lower error.
     `linear_solver="superlu"` is scipy's LU: faster on large graphs, but its last bits
     depend on the CPU's BLAS kernels (see `graph_solver`), so not for a closed loop.
-    `symbolic`: `symbolic_factor(len(poses), i, j)` made earlier for these edges, for a
-    caller that solves one graph several times (reweighted rounds); the same result.
+    `huber=(edges, scale)`: Huber's loss on those edges (Cartographer's loop closures),
+    as Ceres minimises it: the error is sum rho(r^T L r) over them, and every
+    linearisation weighs each one's information by rho' at its residual (Ceres's
+    Corrector: Huber's rho'' is never positive, so no curvature term).
     """
     if linear_solver not in ("cholesky", "superlu"):
         raise ValueError(f"linear_solver must be 'cholesky' or 'superlu', not {linear_solver!r}")
     x = np.array(poses, dtype=np.float64)
-    err0 = graph_error(x, i, j, z, info)
+    robust, scale = huber if huber is not None else (np.zeros(0, np.int64), 0.0)
+
+    def error(poses: F64) -> float:
+        if not robust.size:
+            return graph_error(poses, i, j, z, info)
+        e = edge_errors(poses, i, j, z, info)
+        e[robust] = huber_loss(e[robust], scale)[0]
+        return float(e.sum())
+
+    def linearise(poses: F64) -> NormalEquations:
+        r, a, b = jacobians(poses, i, j, z)
+        weighted = info
+        if robust.size:
+            rl = r[robust]
+            s = fmath.dot_rows(rl, fmath.matmul_k(info[robust], rl[:, :, None])[:, :, 0])
+            weighted = info.copy()
+            weighted[robust] *= huber_loss(s, scale)[1][:, None, None]
+        return assemble(pattern, a, b, weighted, r, fixed)
+
+    err0 = error(x)
     negligible = NEGLIGIBLE_ERROR_PER_EDGE * max(i.size, 1)
     if err0 <= negligible:
         return x, SolveReport(0, err0, err0, True)
-    if symbolic is not None and linear_solver == "cholesky":
-        pattern, chol = symbolic
-    else:
-        pattern = BlockPattern(x.shape[0], i, j)
-        chol = BlockCholesky(pattern) if linear_solver == "cholesky" else None
+    pattern = BlockPattern(x.shape[0], i, j)
+    chol = BlockCholesky(pattern) if linear_solver == "cholesky" else None
     lam, err, iters, converged = LAMBDA_INITIAL, err0, 0, False
-    r, a, b = jacobians(x, i, j, z)
-    system = assemble(pattern, a, b, info, r, fixed)
+    system = linearise(x)
     while iters < max_iterations:
         iters += 1
         diag = system.damped_diag(lam)
@@ -179,7 +197,7 @@ def optimize_poses(
             trial = x + dx
             trial[:, 2] = normalize_angle(trial[:, 2])
             trial[fixed] = x[fixed]
-            err_new = graph_error(trial, i, j, z, info)
+            err_new = error(trial)
         if err_new < err:
             decrease = err - err_new
             x, err = trial, err_new
@@ -187,8 +205,7 @@ def optimize_poses(
             if decrease <= tolerance * (err + decrease) or err <= negligible:
                 converged = True
                 break
-            r, a, b = jacobians(x, i, j, z)
-            system = assemble(pattern, a, b, info, r, fixed)
+            system = linearise(x)
         elif lam >= LAMBDA_MAX:
             converged = True  # no step lowers the error: a minimum, to rounding
             break
@@ -197,11 +214,14 @@ def optimize_poses(
     return x, SolveReport(iters, err0, err, converged)
 
 
-def symbolic_factor(n: int, i: I64, j: I64) -> tuple[BlockPattern, BlockCholesky]:
-    """H's block pattern and its symbolic Cholesky for n poses and edges (i, j): fixed
-    while the edges are, so a graph solved again with other weights reuses them."""
-    pattern = BlockPattern(n, i, j)
-    return pattern, BlockCholesky(pattern)
+def huber_loss(s: F64, scale: float) -> tuple[F64, F64]:
+    """Ceres's HuberLoss at squared residual norms `s`: rho(s) (s up to scale^2, then
+    2 scale sqrt(s) - scale^2) and its derivative rho'(s) (1, then scale / sqrt(s))."""
+    norm = np.sqrt(np.maximum(s, 0.0))
+    outer = norm > scale
+    rho = np.where(outer, 2.0 * scale * norm - scale * scale, s)
+    weight = np.where(outer, scale / np.maximum(norm, scale), 1.0)
+    return rho, weight
 
 
 # -- the graph ----------------------------------------------------------------------
