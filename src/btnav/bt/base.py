@@ -48,6 +48,7 @@ import py_trees.logging as _pt_logging
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
+from ..core.per_class import copy_hot_methods
 from .ports import BoundPortsMixin, PortInformation, input_port, output_port
 
 __all__ = [
@@ -73,6 +74,18 @@ TIME_EPS = 1e-9
 
 #: BT.CPP's NodeStatus, as every node file spells them.
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+
+
+#: A node's tick, method by method: each node class gets its own copy of those it
+#: inherits (`copy_hot_methods`), so the tick's lookups are specialised per class.
+_TICK_METHODS = (
+    "tick_once",
+    "execute_tick",
+    "tick_children",
+    "tick_decorated",
+    "tick_child",
+    "update",
+)
 
 
 def halt(node: Behaviour) -> None:
@@ -120,7 +133,10 @@ class _BtNode(BoundPortsMixin):
     #: How many children the node takes: (min, max); max None = unbounded.
     CHILDREN: ClassVar[tuple[int, int | None]] = (0, 0)
 
-    status: Status = _INVALID
+    #: Set by py_trees' `Behaviour.__init__`; no class-level default, on purpose: CPython
+    #: 3.11 will not specialise an attribute read whose class attribute is an instance of
+    #: a mutable class (an Enum member is), and `status` is read at every node of a tick.
+    status: Status
     skipped: bool = False
     _INITIALISES: ClassVar[bool] = False
     _TERMINATES: ClassVar[bool] = False
@@ -147,6 +163,7 @@ class _BtNode(BoundPortsMixin):
                     f"{cls.__name__}.{hook} is a generator: btnav ticks with plain calls; "
                     f"return the status instead (`status = self.tick_child(...)`, no yield)"
                 )
+        copy_hot_methods(cls, _TICK_METHODS)
 
     # -- the tick ---------------------------------------------------------------------------
 
@@ -238,7 +255,7 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         return super().prepend_child(child)
 
     def execute_tick(self) -> Status:
-        if self._INITIALISES and self.status is not R:
+        if self.status is not R and self._INITIALISES:
             self.initialise()
         self.skipped = False
         status = self.tick_children()
@@ -309,7 +326,7 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
         self.reset_state()
 
     def execute_tick(self) -> Status:
-        if self._INITIALISES and self.status is not R:
+        if self.status is not R and self._INITIALISES:
             self.initialise()
         self.skipped = False
         status = self.tick_decorated()
@@ -353,7 +370,7 @@ class LeafNode(_BtNode, Behaviour):
         debug = _pt_logging.level < _INFO
         if debug:
             self.logger.debug(f"{type(self).__name__}.tick()")
-        if self._INITIALISES and self.status is not R:
+        if self.status is not R and self._INITIALISES:
             self.initialise()
         new_status = self.update()
         if new_status is R:

@@ -11,6 +11,8 @@ from py_trees.ports import PortInformation
 from ..plugins import register
 from .base import TIME_EPS, DecoratorNode, R, S
 
+_INVALID = Status.INVALID  # a module global: an Enum's attribute is a slow read per tick
+
 
 @register("bt_node", "RateController")
 class RateController(DecoratorNode):
@@ -41,7 +43,7 @@ class RateController(DecoratorNode):
         self.first_time = False
 
     def tick_decorated(self) -> Status:
-        if self.status is Status.INVALID:  # a new run (BT.CPP: status not active)
+        if self.status is _INVALID:  # a new run (BT.CPP: status not active)
             self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
             self.first_time = True

@@ -17,6 +17,7 @@ from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..core.per_class import original
 from ..plugins import register
 from .base import S
 from .nav2_context import Nav2Leaf
@@ -39,7 +40,7 @@ class _Selector(Nav2Leaf):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        cls._STEADY = cls._HOOKLESS and cls.update is _Selector.update
+        cls._STEADY = cls._HOOKLESS and original(cls.update) is _Selector.update
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name=name, **kwargs)

@@ -31,6 +31,7 @@ from typing import Any, Generic, TypeVar
 
 from ..core.error_codes import ERROR_CODES, NavResult, Outcome
 from ..core.errors import UnknownNameError
+from ..core.per_class import copy_hot_methods
 from ..core.suggest import best_match
 
 G = TypeVar("G")
@@ -49,6 +50,8 @@ class GoalStatus(IntEnum):
 
 
 TERMINAL = frozenset({GoalStatus.SUCCEEDED, GoalStatus.CANCELED, GoalStatus.ABORTED})
+#: Read by every server's every update: a module global, as an Enum's attribute is a slow read.
+_CANCELING = GoalStatus.CANCELING
 _STATUS_OF = {
     Outcome.SUCCEEDED: GoalStatus.SUCCEEDED,
     Outcome.FAILED: GoalStatus.ABORTED,
@@ -161,6 +164,10 @@ class ActionServer(Generic[G]):
         self.now: float | None = None  # time of the latest update
         self._ids = count(1)  # goal ids per server, so two runs number their goals alike
 
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        copy_hot_methods(cls, ("update", "_run"))  # run by every server, every cycle
+
     # -- the client's entry point -----------------------------------------------------
 
     def send_goal(self, goal: G) -> GoalHandle[G]:
@@ -196,7 +203,7 @@ class ActionServer(Generic[G]):
         pending = self.pending
         if pending is not None:
             self.pending = None
-            if pending.status is GoalStatus.CANCELING:
+            if pending.status is _CANCELING:
                 pending._finish(NavResult.cancellation(), now)
             elif self.current is not None and self.current.active:
                 if self.preemptible:
@@ -210,7 +217,7 @@ class ActionServer(Generic[G]):
         handle = self.current
         if handle is None or handle.done:
             return
-        if handle.status is GoalStatus.CANCELING:
+        if handle.status is _CANCELING:
             self._run(handle, self.on_cancel, now)
         else:
             self._run(handle, self.execute, now)

@@ -30,6 +30,7 @@ from py_trees.common import Status
 from pydantic import Field
 
 from ..bt import load_tree
+from ..bt.base import R, S
 from ..bt.bundled import find_tree
 from ..bt.nav2_context import RECOVERIES_KEY
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
@@ -125,6 +126,9 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         self.bt = bt
         self.rate = 1000.0 / bt.params.bt_loop_duration
         self.default_tree = getattr(bt.params, self.default_tree_key)
+        # read once, as Nav2's navigators read them on configure (a params model's attributes
+        # are slow reads, and the feedback wants them every tick)
+        self._pose_frames = (bt.params.global_frame, bt.params.robot_base_frame)
 
     # -- the tree -------------------------------------------------------------------------
 
@@ -198,9 +202,9 @@ class BehaviorTreeNavigator(ActionServer[Any]):
             self.bt.notify(self, now)
         status = root.status
         handle.publish_feedback(self._feedback(now), now)
-        if status is Status.RUNNING:
+        if status is R:
             return None
-        if status is Status.SUCCESS:
+        if status is S:
             return NavResult.success()
         return self._failure()
 
@@ -230,9 +234,8 @@ class BehaviorTreeNavigator(ActionServer[Any]):
 
     def _feedback(self, now: float) -> Any:
         rt = self.bt.runtime
-        params = self.bt.params
         try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
-            pose = rt.frames.lookup(params.global_frame, params.robot_base_frame)
+            pose = rt.frames.lookup(*self._pose_frames)
         except Exception:
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
