@@ -20,7 +20,8 @@ from ..slam.cartographer_config import load_cartographer_config
 from ..slam.logs import read_log
 from ..slam.offline import run_slam
 from ..slam.offline_cartographer import run_cartographer
-from ..slam.offline_files import slam_params, write_outputs
+from ..slam.offline_files import load_slam_params, write_outputs
+from ..slam.slam_toolbox import warn_ignored
 from . import EXIT_OK
 
 
@@ -58,7 +59,7 @@ def slam_main(
             key="--trajectory",
         )
     config = load_cartographer_config(lua) if lua is not None else None
-    params = slam_params(params_path) if config is None else None
+    params, params_file = load_slam_params(params_path) if config is None else (None, None)
     bar, update = _progress("reading")
     if bar is not None:
         bar.start()
@@ -70,6 +71,8 @@ def slam_main(
             result = run_cartographer(log, config, progress=update)
         else:
             assert params is not None
+            if params_file is not None:  # once the inputs are read: a bad log is one error
+                warn_ignored(params_file)
             result = run_slam(log, params, progress=update, trajectory=trajectory or "matched")  # type: ignore[arg-type]
     finally:
         if bar is not None:

@@ -10,6 +10,11 @@ from .nav2_known import AMCL_MOTION_MODELS
 from .node import NodeParams
 from .schema import FieldProblem, Frame, ParamsModel, Why, ignored, one_of
 
+#: Why slam_toolbox's covariance scales do nothing in btnav.
+_NO_COVARIANCE = (
+    "btnav's slam publishes its pose without a covariance (all zeros): nothing to scale"
+)
+
 LaserModel = one_of("likelihood_field", "beam", "likelihood_field_prob")
 SlamMode = one_of("mapping", "localization")
 
@@ -104,17 +109,24 @@ class SlamToolboxParams(NodeParams):
     resolution: float = Field(0.05, gt=0.0)
     max_laser_range: float = Field(25.0, gt=0.0)
     throttle_scans: int = Field(1, ge=1)
-    transform_publish_period: float = Field(0.05, ge=0.0, description="s; 0: never")
+    transform_publish_period: float = ignored(
+        0.05,
+        "btnav sets map -> odom once per processed scan and its frame tree keeps it: "
+        "there is no publishing thread whose period this sets (not even 0, never)",
+        ge=0.0,
+    )
     map_update_interval: float = Field(10.0, gt=0.0)
     minimum_time_interval: float = Field(0.5, ge=0.0)
-    position_covariance_scale: float = Field(1.0, gt=0.0)
-    yaw_covariance_scale: float = Field(1.0, gt=0.0)
+    position_covariance_scale: float = ignored(1.0, _NO_COVARIANCE, gt=0.0)
+    yaw_covariance_scale: float = ignored(1.0, _NO_COVARIANCE, gt=0.0)
     map_start_pose: list[float] | None = Field(None, min_length=3, max_length=3)
     #: A serialised pose graph (`.npz`, the extension may be left out as slam_toolbox
     #: does): loaded and localised on with `mode: localization`.
     map_file_name: str = ""
     # Karto mapper
     use_scan_matching: bool = True
+    #: Karto's reference pose for the distances between scans (near chains, loop
+    #: candidates): the scan's barycenter, or (false) its pose.
     use_scan_barycenter: bool = True
     minimum_travel_distance: float = Field(0.5, ge=0.0)
     minimum_travel_heading: float = Field(0.5, ge=0.0)

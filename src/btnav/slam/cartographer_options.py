@@ -9,9 +9,12 @@ when it asks for something btnav does not do, listed in `CartographerConfig.igno
 from __future__ import annotations
 
 import typing
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from ..core.errors import BtnavWarning
 
 #: A dotted key of the options table, as a tuple of its parts.
 Key = tuple[str, ...]
@@ -123,7 +126,6 @@ class ConstraintBuilder:
     sampling_ratio: float
     max_constraint_distance: float
     min_score: float
-    global_localization_min_score: float
     loop_closure_translation_weight: float
     loop_closure_rotation_weight: float
     fast_correlative_scan_matcher: FastCorrelativeScanMatcher
@@ -165,6 +167,16 @@ class CartographerConfig:
     frames: Frames
     trajectory_builder_2d: TrajectoryBuilder2D
     pose_graph: PoseGraph
+
+    def warn_ignored(self, stacklevel: int = 2) -> None:
+        """The one warning that lists `ignored`, so a run never drops an option silently
+        (`btnav slam --lua` and the live plugin say it in the same words)."""
+        if self.ignored:
+            warnings.warn(BtnavWarning(IGNORED_WARNING + ", ".join(self.ignored), file=self.file), stacklevel=stacklevel + 1)  # fmt: skip
+
+
+#: How the warning about options btnav does not act on starts.
+IGNORED_WARNING = "btnav does not implement these Cartographer options and runs without them: "
 
 
 #: Where each typed view sits in the options table.

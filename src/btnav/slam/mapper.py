@@ -276,14 +276,15 @@ class Mapper:
         )[:, :2]
 
     def barycenters(self) -> F64:
-        """(K, 2) every scan's barycenter in the map frame (Karto's reference positions),
-        read-only; recomputed only after the poses change (a scan asks several times)."""
+        """(K, 2) every scan's barycenter in the map frame, or its pose without
+        `use_scan_barycenter` (Karto's reference positions), read-only; recomputed only
+        after the poses change (a scan asks several times)."""
         if not self.scans:
             return np.zeros((0, 2))
         key = (self.graph, self.graph.num_nodes, self._pose_version)
         old = self._bary_key
         if old is None or old[0] is not key[0] or old[1:] != key[1:]:
-            c = np.array([s.centroid for s in self.scans])
+            c = np.array([s.centroid for s in self.scans]) * self.params.use_scan_barycenter
             bary = compose_arrays(self.graph.poses, np.column_stack([c, np.zeros(len(c))]))
             self._bary = bary[:, :2]
             self._bary.flags.writeable = False
@@ -291,7 +292,9 @@ class Mapper:
         return self._bary
 
     def _barycenter(self, pose: F64, scan: Scan) -> F64:
-        return compose(pose, np.array([scan.centroid[0], scan.centroid[1], 0.0]))[:2]
+        """Karto's is the laser's pose without a barycenter; a node here is the robot's."""
+        c = scan.centroid * self.params.use_scan_barycenter
+        return compose(pose, np.array([c[0], c[1], 0.0]))[:2]
 
     def _reference(self, ids: list[int]) -> list[tuple[F64, F64]]:
         return [(self.world_points(i), self.graph.poses[i]) for i in ids]

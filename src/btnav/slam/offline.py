@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from ..core.errors import ParamsError
 from ..core.geometry import Pose2D, compose_arrays, normalize_angle, relative_arrays
 from ..maps.occupancy_grid import OccupancyGrid
 from ..params.localization import SlamToolboxParams
@@ -59,6 +60,20 @@ class OfflineResult:
         return len(self.mapper.scans)
 
 
+def refuse_localization(params: SlamToolboxParams) -> None:
+    """`mode: localization` is refused, not mapped anyway: slam_toolbox's localization
+    mode leaves the loaded graph and its map as they were, so this command's outputs (a
+    map and a graph of the log) would be copies of map_file_name's; tracking the robot
+    on that graph is what a mission's `localization: slam` does."""
+    if params.mode == "localization":
+        raise ParamsError(
+            "btnav slam builds a map from the log, and mode: localization would only track "
+            "the robot on map_file_name's saved graph without changing it (run a mission "
+            "with localization: slam for that); remove the key or set it to mapping",
+            key="slam_toolbox.mode",
+        )
+
+
 def run_slam(
     log: RecordedLog,
     params: SlamToolboxParams,
@@ -70,6 +85,7 @@ def run_slam(
     trajectory is matched: mapping, then matching)."""
     if trajectory not in ("matched", "odometry"):
         raise ValueError(f"trajectory must be 'matched' or 'odometry', not {trajectory!r}")
+    refuse_localization(params)
     wall0 = time.perf_counter()
     start = np.asarray(params.map_start_pose or (0.0, 0.0, 0.0), float)
     mapper = Mapper(params, start)

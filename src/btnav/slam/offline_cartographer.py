@@ -52,7 +52,9 @@ def run_cartographer(
     config: CartographerConfig,
     progress: Callable[[int, int], None] | None = None,
 ) -> OfflineResult:
-    """Map `log` with Cartographer's options; `progress(done, total)` after every scan."""
+    """Map `log` with Cartographer's options; `progress(done, total)` after every scan.
+    The options btnav does not act on are one warning first, as the live plugin gives."""
+    config.warn_ignored()
     wall0 = time.perf_counter()
     tb, frames = config.trajectory_builder_2d, config.frames
     local = LocalTrajectoryBuilder(tb, frames.use_odometry, np.zeros(3))

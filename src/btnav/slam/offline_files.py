@@ -14,21 +14,38 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.errors import BtnavError
 from ..maps.map_io import save_map
 from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
+from ..params.paramsfile import ParamsFile
+from ..params.tree import line_of
 from .graph_io import save_cartographer_graph, save_pose_graph
 from .mapper import Mapper
-from .offline import OfflineResult
+from .offline import OfflineResult, refuse_localization
 from .slam_toolbox import default_slam_params
 
 
-def slam_params(path: str | PathLike[str] | None) -> SlamToolboxParams:
-    """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)."""
+def load_slam_params(
+    path: str | PathLike[str] | None,
+) -> tuple[SlamToolboxParams, ParamsFile | None]:
+    """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)
+    and the file, whose ignored keys the caller reports (`slam_toolbox.warn_ignored`).
+    `mode: localization` is an error at its line (`offline.refuse_localization`)."""
     pf = load_params(path) if path is not None else None
     if pf is None or "slam_toolbox" not in pf:
-        return default_slam_params()
-    return pf.server("slam_toolbox").model  # type: ignore[no-any-return]
+        return default_slam_params(), pf
+    server = pf.server("slam_toolbox")
+    try:
+        refuse_localization(server.model)
+    except BtnavError as err:
+        raise err.located(file=pf.path, line=line_of(server.doc, "mode")) from None
+    return server.model, pf
+
+
+def slam_params(path: str | PathLike[str] | None) -> SlamToolboxParams:
+    """The `slam_toolbox:` section of a params file (see `load_slam_params`)."""
+    return load_slam_params(path)[0]
 
 
 def write_outputs(result: OfflineResult, out: Path) -> None:

@@ -16,6 +16,7 @@ params/), the file Nav2's slam_launch.py hands slam_toolbox.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from os import PathLike
 from pathlib import Path
@@ -23,14 +24,16 @@ from typing import Any
 
 import numpy as np
 
-from ..core.errors import ParamsError
+from ..core.errors import BtnavWarning, ParamsError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan, PoseWithCovariance
 from ..core.resources import bundled_dir
 from ..localization.localizer import LocalizerContext, localizer_params
 from ..maps.occupancy_grid import OccupancyGrid
+from ..params.check import ParamsCheck
 from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
+from ..params.paramsfile import ParamsFile
 from ..plugins import register
 from .graph_io import graph_file, load_pose_graph, save_pose_graph
 from .graph_localizer import GraphLocalizer
@@ -43,8 +46,21 @@ from .scan_points import scan_points
 DEFAULT_PARAMS_FILE = "mapper_params_online_async.yaml"
 
 
+#: How the warning about keys btnav does not act on starts (the Cartographer plugin's words).
+IGNORED_WARNING = "btnav does not implement these slam_toolbox keys and runs without them: "
+
+
 def default_slam_params() -> SlamToolboxParams:
     return load_params(bundled_dir("params") / DEFAULT_PARAMS_FILE).server("slam_toolbox").model
+
+
+def warn_ignored(params: ParamsFile, stacklevel: int = 2) -> None:
+    """One warning listing the `slam_toolbox:` keys `params` sets that btnav does not act
+    on, each as `btnav params check` lists it (line, key, reason): none is dropped silently."""
+    entries = [e for e in ParamsCheck(params).ignored if e.key.split(".", 1)[0] == "slam_toolbox"]
+    if entries:
+        listed = "; ".join(str(e) for e in entries)
+        warnings.warn(BtnavWarning(IGNORED_WARNING + listed, file=params.path), stacklevel=stacklevel + 1)  # fmt: skip
 
 
 @register("slam", "slam", aliases=["slam_toolbox", "slam_toolbox::AsyncSlamToolbox"])

@@ -25,7 +25,9 @@ One message a line, the message name first; `#` starts a comment line. Read here
 Other messages (RAWLASER, RLASER, SYNC, TRUEPOS, NMEA...) are skipped. A log with
 both ROBOTLASER1 and FLASER lines (FR079 has both for the same laser) is read from
 ROBOTLASER1. Host and logger_timestamp may be missing; the timestamp is the IPC one.
-Errors count a line's fields from 1 at the message name, as awk does.
+Errors count a line's fields from 1 at the message name, as awk does. A pose, angle
+or timestamp field that is not finite, or beyond any real log's (`recorded_log.LIMITS`),
+is an error at its line; a range reading may be inf or NaN (an invalid reading).
 
 Odometry comes from the ODOM lines when there are any, interpolated at each scan's
 time; otherwise from the odometry pose of each laser line. For `intel.clf` the two
@@ -55,8 +57,10 @@ from .recorded_log import (
     LogError,
     Progress,
     RecordedLog,
+    implausible,
     rep117_ranges,
     time_span,
+    why_implausible,
 )
 
 #: The maximum range of a FLASER laser when no PARAM line gives it (SICK LMS: 81.9 m).
@@ -151,6 +155,30 @@ class _Lines:
             )
         raise self.error(idx[0], f"{tag}: cannot read the numbers of these lines")
 
+    def check_values(
+        self,
+        tag: str,
+        idx: list[int],
+        v: NDArray[np.float64],
+        cols: NDArray[np.int64],
+        checks: dict[int, tuple[str, str]],
+    ) -> LogError | None:
+        """The error for the first field, in file order, that `implausible` flags: `v` holds
+        fields `cols` of lines `idx`, `checks` maps a column of `v` to (name, kind).
+        Returned, not raised, so a reader of several blocks reports the earliest line."""
+        first: tuple[int, int, str, str] | None = None
+        for j, (name, kind) in checks.items():
+            bad = np.flatnonzero(implausible(v[:, j], kind))
+            if len(bad):
+                here = (idx[int(bad[0])], int(cols[j]), name, kind)
+                first = here if first is None or here[:2] < first[:2] else first
+        if first is None:
+            return None
+        i, k, name, kind = first
+        return self.error(
+            i, f"{tag}: field {k + 1} ({name}) {why_implausible(self.field(i, k), kind)}"
+        )
+
     def counts(
         self, tag: str, idx: list[int], k: int | NDArray[np.int64], what: str
     ) -> NDArray[np.int64]:
@@ -209,6 +237,22 @@ class _Lines:
         )
 
 
+def _raise_first(errors: list[LogError | None]) -> None:
+    """Raise the error of the earliest line, if any."""
+    found = [e for e in errors if e is not None]
+    if found:
+        raise min(found, key=lambda e: e.line or 0)
+
+
+def _pose_checks(at: int, prefix: str) -> dict[int, tuple[str, str]]:
+    """Checks of a pose `x y theta` whose x is column `at`."""
+    return {
+        at: (f"{prefix}x", "position"),
+        at + 1: (f"{prefix}y", "position"),
+        at + 2: (f"{prefix}theta", "yaw"),
+    }
+
+
 def _is_number(s: str) -> bool:
     try:
         float(s)
@@ -227,11 +271,16 @@ def _flaser(log: _Lines, idx: list[int]) -> list[tuple[list[int], int, NDArray[n
         raise log.error(i, "FLASER: too few fields: no reading count", cut=True)
     n = log.counts("FLASER", idx, 1, "reading")
     log.check_lengths("FLASER", idx, have, n + 9, lambda j: f"FLASER with {n[j]} readings")
-    blocks = []
+    blocks, errors = [], []
     for beams in np.unique(n).tolist():
         sel = [idx[j] for j in np.flatnonzero(n == beams)]
         cols = np.arange(2, beams + 9)
-        blocks.append((sel, beams, log.numbers("FLASER", sel, cols)))
+        v = log.numbers("FLASER", sel, cols)
+        checks = _pose_checks(beams, "") | _pose_checks(beams + 3, "odom_")
+        checks[beams + 6] = ("ipc_timestamp", "stamp")
+        errors.append(log.check_values("FLASER", sel, v, cols, checks))
+        blocks.append((sel, beams, v))
+    _raise_first(errors)
     return blocks
 
 
@@ -257,13 +306,20 @@ def _robotlaser(
     log.check_lengths(
         tag, idx, have, n + m + 22, lambda j: f"{tag} with {n[j]} readings and {m[j]} remissions"
     )
-    blocks = []
+    blocks, errors = [], []
     for beams, rems in sorted({(int(a), int(b)) for a, b in zip(n, m, strict=True)}):
         sel = [idx[j] for j in np.flatnonzero((n == beams) & (m == rems))]
         cols = np.concatenate(
             [np.arange(1, 8), np.arange(9, 9 + beams), np.arange(10 + beams, 22 + beams + rems)]
         )
-        blocks.append((sel, beams, rems, log.numbers(tag, sel, cols)))
+        v = log.numbers(tag, sel, cols)
+        tail = 7 + beams + rems  # laser_x: the fields after the remissions
+        checks = {1: ("start_angle", "yaw"), 2: ("field_of_view", "yaw")}
+        checks |= {3: ("angular_resolution", "yaw"), tail + 11: ("timestamp", "stamp")}
+        checks |= _pose_checks(tail, "laser_") | _pose_checks(tail + 3, "robot_")
+        errors.append(log.check_values(tag, sel, v, cols, checks))
+        blocks.append((sel, beams, rems, v))
+    _raise_first(errors)
     return blocks
 
 
@@ -413,7 +469,10 @@ def read_carmen(path: str | Path, *, progress: Progress | None = None) -> Record
         odom_idx = groups["ODOM"]
         have = log.field_counts(odom_idx)
         log.check_lengths("ODOM", odom_idx, have, np.full(len(odom_idx), 8), lambda j: "ODOM")
-        v = log.numbers("ODOM", odom_idx, np.arange(1, 8))
+        cols = np.arange(1, 8)
+        v = log.numbers("ODOM", odom_idx, cols)
+        checks = _pose_checks(0, "") | {6: ("timestamp", "stamp")}
+        _raise_first([log.check_values("ODOM", odom_idx, v, cols, checks)])
         odom_stamps, odom_poses, odom_source = v[:, 6], v[:, 0:3], "ODOM lines"
     else:
         odom_stamps, odom_poses = scan_stamps, odom

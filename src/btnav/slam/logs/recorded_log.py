@@ -45,6 +45,43 @@ class LogError(BtnavError):
     (CARMEN) or the topic and message (bags)."""
 
 
+#: The largest |x|, |y| (m) a log's pose may hold: a million kilometres, beyond the
+#: Moon, past any UTM easting or northing (< 10,000 km); float64 still resolves 0.1 um
+#: there. A larger value is a corrupt field, and the maps overflow their int64 cells.
+MAX_POSITION = 1e9
+#: The largest |yaw| (rad): 160,000 turns of unwrapped odometry yaw, resolved to 1e-10 rad.
+MAX_YAW = 1e6
+#: The largest |stamp| (s): 3,000 years from 1970 either way, still resolved to 15 us.
+MAX_STAMP = 1e11
+#: Each kind of value a reader checks: (largest magnitude, unit).
+LIMITS = {
+    "position": (MAX_POSITION, "m"),
+    "yaw": (MAX_YAW, "rad"),
+    "stamp": (MAX_STAMP, "s"),
+    "quaternion": (MAX_POSITION, ""),  # any finite component: the yaw is normalised
+}
+
+
+def implausible(values: ArrayLike, kind: str) -> NDArray[np.bool_]:
+    """Which `values` no log can hold as a `kind` (see `LIMITS`): not finite, or beyond
+    the limit. A range reading is never checked here: inf and NaN are valid ones."""
+    limit = LIMITS[kind][0]
+    return ~(np.abs(np.asarray(values, dtype=np.float64)) <= limit)
+
+
+def why_implausible(text: str, kind: str) -> str:
+    """Why the value written `text` is not a `kind` (for a value `implausible` flagged)."""
+    limit, unit = LIMITS[kind]
+    try:
+        finite = np.isfinite(float(text))
+    except ValueError:
+        finite = False
+    if not finite:
+        return f"'{text}' is not a finite number"
+    unit = f" {unit}" if unit else ""
+    return f"'{text}' is beyond +-{limit:g}{unit}, more than any log holds (a corrupt field?)"
+
+
 @dataclass
 class RecordedLog:
     """The scans of a recorded log and the odometry to place them.

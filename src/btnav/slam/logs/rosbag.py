@@ -13,10 +13,18 @@ the error lists the candidates and names `--scan-topic` / `--odom-topic`
 The laser's offset on the robot comes from the transforms (`/tf_static`, then `/tf`)
 from the odometry's child frame to the scans' frame; without such a chain the laser
 is taken at the robot's origin and a `BtnavWarning` says so.
+
+A message that cannot be read, or whose pose, angle or stamp is not finite or beyond
+any real log's (`recorded_log.LIMITS`), is a `LogError` naming its topic, its number
+on that topic and its time; a damaged ROS 1 bag's error adds the byte offset of the
+chunk that failed, a truncated one's where its index should have been.
 """
 
 from __future__ import annotations
 
+import heapq
+import itertools
+import struct
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -31,7 +39,15 @@ from btnav.core.geometry import Pose2D
 from btnav.core.messages import LaserScan
 from btnav.core.suggest import best_match
 
-from .recorded_log import LogError, Progress, RecordedLog, rep117_ranges, time_span
+from .recorded_log import (
+    LogError,
+    Progress,
+    RecordedLog,
+    implausible,
+    rep117_ranges,
+    time_span,
+    why_implausible,
+)
 
 SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
@@ -91,8 +107,40 @@ def _open(path: Path) -> Any:
         reader = AnyReader([target], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
         reader.open()
     except Exception as exc:  # rosbags raises many kinds for a damaged or foreign file
-        raise LogError(f"cannot read this bag: {exc}", file=path) from None
+        cut = _ros1_index_place(target)
+        raise LogError(
+            f"cannot read this bag: {exc}" + (f"; {cut}" if cut else ""), file=path
+        ) from None
     return reader
+
+
+def _ros1_index_place(path: Path) -> str | None:
+    """For a ROS 1 bag whose index cannot be read: where its header says the index is,
+    and whether the file reaches it (a recording stopped before the bag was closed
+    does not). None for any other file."""
+    try:
+        with path.open("rb") as fh:
+            if fh.readline() != b"#ROSBAG V2.0\n":
+                return None
+            (size,) = struct.unpack("<I", fh.read(4))
+            header = fh.read(size)
+        end = path.stat().st_size
+    except (OSError, struct.error):
+        return None
+    fields, i = {}, 0
+    while i + 4 <= len(header):
+        (n,) = struct.unpack_from("<I", header, i)
+        name, _, value = header[i + 4 : i + 4 + n].partition(b"=")
+        fields[name], i = value, i + 4 + n
+    if len(fields.get(b"index_pos", b"")) != 8:
+        return None
+    (index_pos,) = struct.unpack("<Q", fields[b"index_pos"])
+    if index_pos >= end:
+        return (
+            f"the bag is cut short: its header puts the index at byte {index_pos}, "
+            f"but the file ends at byte {end} (`rosbag reindex` rebuilds the index)"
+        )
+    return f"the index starts at byte {index_pos} of {end}"
 
 
 def _topics(reader: Any) -> dict[str, str]:
@@ -127,33 +175,74 @@ def _choose(
     return of_type[0] if of_type else None
 
 
-def _messages(reader: Any, path: Path, topics: list[str]) -> Iterator[tuple[str, Any]]:
-    """(topic, message) of the given topics in bag order; a damaged message is a LogError
-    naming its topic and its number on that topic."""
+def _messages(reader: Any, path: Path, topics: list[str]) -> Iterator[tuple[str, int, Any]]:
+    """(topic, number on the topic from 1, message) of the given topics in bag order; a
+    damaged message is a LogError naming its topic, its number there and its bag time."""
     conns = [c for c in reader.connections if c.topic in topics]
     counts = dict.fromkeys(topics, 0)
     it = reader.messages(connections=conns)
+    done = 0
+    last = "before the first message"
     while True:
-        topic = "?"
         try:
-            conn, _t, raw = next(it)
-            topic = conn.topic
-            msg = reader.deserialize(raw, conn.msgtype)
+            conn, t, raw = next(it)
         except StopIteration:
             return
-        except Exception as exc:
-            where = (
-                f"message {counts.get(topic, 0) + 1} on {topic}" if topic != "?" else "a message"
-            )
+        except Exception as exc:  # a chunk that does not decompress or parse
+            where = _ros1_failed_record(conns, done, counts) or f"the message {last}"
             raise LogError(f"cannot read {where}: {exc}", file=path) from None
-        counts[topic] += 1
-        yield topic, msg
+        topic, number = conn.topic, counts[conn.topic] + 1
+        try:
+            msg = reader.deserialize(raw, conn.msgtype)
+        except Exception as exc:
+            where = f"message {number} on {topic} (bag time {t * 1e-9:.3f} s)"
+            raise LogError(f"cannot read {where}: {exc}", file=path) from None
+        counts[topic], done = number, done + 1
+        last = f"after message {number} on {topic} (bag time {t * 1e-9:.3f} s)"
+        yield topic, number, msg
 
 
-def _scan(msg: Any) -> LaserScan:
+def _ros1_failed_record(conns: list[Any], done: int, counts: dict[str, int]) -> str | None:
+    """The message a ROS 1 bag failed on, by its index: the one after the `done` read
+    (the order the rosbags reader merges the topics' indexes in), with the byte offset
+    of its chunk. None when the bag is not a ROS 1 one read from one file."""
+    owners = {id(c.owner) for c in conns}
+    indexes = getattr(conns[0].owner, "indexes", None) if conns else None
+    if len(owners) != 1 or not isinstance(indexes, dict):
+        return None
+    merged = heapq.merge(
+        *[[(e, c.topic) for e in indexes.get(c.id, [])] for c in conns], key=lambda x: x[0].time
+    )
+    failed = next(itertools.islice(merged, done, None), None)
+    if failed is None:
+        return None
+    entry, topic = failed
+    return (
+        f"message {counts.get(topic, 0) + 1} on {topic} (bag time {entry.time * 1e-9:.3f} s, "
+        f"in the chunk at byte {entry.chunk_pos})"
+    )
+
+
+def _check_values(
+    path: Path, topic: str, number: int, stamp: float, values: list[tuple[str, float, str]]
+) -> None:
+    """A LogError for the first of `values` (name, value, kind) that `implausible` flags."""
+    for name, value, kind in values:
+        if implausible(value, kind):
+            why = why_implausible(repr(float(value)), kind)
+            raise LogError(
+                f"message {number} on {topic} (stamp {stamp:.6f} s): {name} {why}", file=path
+            )
+
+
+def _scan(msg: Any, path: Path, topic: str, number: int) -> LaserScan:
     r_min, r_max = float(msg.range_min), float(msg.range_max)
+    stamp = _stamp(msg.header)
+    checks = [("header.stamp", stamp, "stamp")]
+    checks += [(f"angle_{k}", float(getattr(msg, f"angle_{k}")), "yaw") for k in ("min", "max", "increment")]  # fmt: skip
+    _check_values(path, topic, number, stamp, checks)
     return LaserScan(
-        stamp=_stamp(msg.header),
+        stamp=stamp,
         frame_id=_frame(msg.header.frame_id),
         angle_min=float(msg.angle_min),
         angle_max=float(msg.angle_max),
@@ -176,14 +265,20 @@ class _Transforms:
         ] = {}
         self.fixed: dict[str, tuple[str, Pose2D]] = {}  # child -> (parent, pose in parent)
 
-    def add(self, msg: Any, *, static: bool) -> None:
-        for tf in msg.transforms:
+    def add(self, msg: Any, where: tuple[Path, str, int], *, static: bool) -> None:
+        """The transforms of one message; `where` (file, topic, number) places an error."""
+        for k, tf in enumerate(msg.transforms):
             parent, child = _frame(tf.header.frame_id), _frame(tf.child_frame_id)
             t, q = tf.transform.translation, tf.transform.rotation
-            if parent.endswith("odom") and child.endswith(BASE_FRAMES):
+            is_odom = parent.endswith("odom") and child.endswith(BASE_FRAMES)
+            if not (is_odom or static or child not in self.fixed):
+                continue
+            stamp = _stamp(tf.header)
+            _check_values(*where, stamp, _pose_values(f"transforms[{k}].", stamp, t, q, "transform.translation", "transform.rotation"))  # fmt: skip
+            if is_odom:
                 rows = self.odom.setdefault((parent, child), [])
-                rows.append((_stamp(tf.header), t.x, t.y, q.x, q.y, q.z, q.w))
-            elif static or child not in self.fixed:
+                rows.append((stamp, t.x, t.y, q.x, q.y, q.z, q.w))
+            else:
                 yaw = float(_yaw(np.array([[q.x, q.y, q.z, q.w]]))[0])
                 self.fixed[child] = (parent, Pose2D(float(t.x), float(t.y), yaw))
 
@@ -207,6 +302,16 @@ class _Transforms:
             parent, in_parent = self.fixed[here]
             pose, here = in_parent @ pose, parent
         return pose
+
+
+def _pose_values(
+    prefix: str, stamp: float, t: Any, q: Any, position: str, orientation: str
+) -> list[tuple[str, float, str]]:
+    """(name, value, kind) of a stamped pose's fields as `_check_values` takes them."""
+    out = [(f"{prefix}header.stamp", stamp, "stamp")]
+    out += [(f"{prefix}{position}.{a}", float(getattr(t, a)), "position") for a in "xy"]
+    out += [(f"{prefix}{orientation}.{a}", float(getattr(q, a)), "quaternion") for a in "xyzw"]
+    return out
 
 
 def read_rosbag(
@@ -248,16 +353,18 @@ def _read(
     odom_rows: list[tuple[float, float, float, float, float, float, float]] = []
     base_frame = ""
     tfs = _Transforms()
-    for done, (topic, msg) in enumerate(_messages(reader, p, wanted), 1):
+    for done, (topic, number, msg) in enumerate(_messages(reader, p, wanted), 1):
         if topic == scan:
-            scans.append(_scan(msg))
+            scans.append(_scan(msg, p, topic, number))
         elif topic == odom:
-            pp = msg.pose.pose
+            pp, stamp = msg.pose.pose, _stamp(msg.header)
             q = pp.orientation
-            odom_rows.append((_stamp(msg.header), pp.position.x, pp.position.y, q.x, q.y, q.z, q.w))
+            fields = _pose_values("", stamp, pp.position, q, "pose.pose.position", "pose.pose.orientation")  # fmt: skip
+            _check_values(p, topic, number, stamp, fields)
+            odom_rows.append((stamp, pp.position.x, pp.position.y, q.x, q.y, q.z, q.w))
             base_frame = base_frame or _frame(msg.child_frame_id)
         else:
-            tfs.add(msg, static=topic == TF_STATIC_TOPIC)
+            tfs.add(msg, (p, topic, number), static=topic == TF_STATIC_TOPIC)
         if progress and done % _PROGRESS_EVERY == 0:
             progress(done, total)
     if not scans:
@@ -312,8 +419,8 @@ def _laser_offset(
 
     mount = lookup()
     if mount is None and not tf_read and topics.get(TF_TOPIC) == TF_TYPE:
-        for _topic, msg in _messages(reader, p, [TF_TOPIC]):
-            tfs.add(msg, static=False)
+        for _topic, number, msg in _messages(reader, p, [TF_TOPIC]):
+            tfs.add(msg, (p, TF_TOPIC, number), static=False)
             if (mount := lookup()) is not None:
                 break
     if mount is None and not base:
