@@ -67,11 +67,6 @@ return options
 """
 
 
-#: Cartographer uses it only to match a new trajectory against a frozen (loaded) map's
-#: submaps; btnav loads no frozen map, so setting it is listed as ignored.
-GLOBAL_LOCALIZATION = "POSE_GRAPH.constraint_builder.global_localization_min_score"
-
-
 def write(folder: Path, text: str, name: str = "my_robot.lua") -> Path:
     path = folder / name
     path.write_text(text)
@@ -92,7 +87,7 @@ def error_of(folder: Path, text: str, **kwargs) -> CartographerConfigError:
 
 def test_the_shipped_configuration_gives_btnavs_robot_its_values():
     config = load_cartographer_config(REPO / "params" / "cartographer_2d.lua")
-    assert config.ignored == [GLOBAL_LOCALIZATION]  # the file sets it; btnav has no such search
+    assert config.ignored == []
     assert config.frames.tracking_frame == "base_link"
     assert config.frames.published_frame == "odom" and config.frames.use_odometry
     assert not config.frames.provide_odom_frame
@@ -107,6 +102,7 @@ def test_the_shipped_configuration_gives_btnavs_robot_its_values():
     )
     pg = config.pose_graph
     assert pg.constraint_builder.min_score == 0.65
+    assert pg.constraint_builder.global_localization_min_score == 0.7
     assert pg.constraint_builder.fast_correlative_scan_matcher.branch_and_bound_depth == 7
     assert pg.optimize_every_n_nodes == 90 and pg.optimization_problem.huber_scale == 10.0
     # The whole table is there as Python, typed as Cartographer reads it.
@@ -120,9 +116,8 @@ def test_the_turtlebot3_file_loads_and_lists_only_what_btnav_would_not_do(tmp_pa
     assert config.trajectory_builder_2d.motion_filter.max_angle_radians == pytest.approx(
         math.radians(0.1)
     )
-    # use_nav_sat = false, use_imu_data = false, sampling ratios 1: all what btnav does;
-    # not global localisation against a frozen map, which turtlebot3's file tunes.
-    assert config.ignored == [GLOBAL_LOCALIZATION]
+    # use_nav_sat = false, use_imu_data = false, sampling ratios 1: all what btnav does.
+    assert config.ignored == []
     asks_more = TURTLEBOT3.replace("use_nav_sat = false", "use_nav_sat = true").replace(
         "return options",
         "POSE_GRAPH.optimization_problem.log_solver_summary = true\n"
@@ -132,7 +127,6 @@ def test_the_turtlebot3_file_loads_and_lists_only_what_btnav_would_not_do(tmp_pa
     )
     config = load_cartographer_config(write(tmp_path, asks_more))
     assert config.ignored == [
-        GLOBAL_LOCALIZATION,
         "POSE_GRAPH.optimization_problem.log_solver_summary",
         "TRAJECTORY_BUILDER.pure_localization_trimmer",
         "TRAJECTORY_BUILDER_3D.num_accumulated_range_data",
@@ -271,24 +265,10 @@ def test_the_filters_and_solver_limits_btnav_acts_on_are_typed_not_ignored(tmp_p
         "return options",
     )
     config = load_cartographer_config(write(tmp_path, text))
-    assert config.ignored == [GLOBAL_LOCALIZATION]
+    assert config.ignored == []
     assert config.trajectory_builder_2d.adaptive_voxel_filter.min_num_points == 150
     assert config.pose_graph.constraint_builder.ceres_scan_matcher.max_num_iterations == 5
     assert config.pose_graph.max_num_final_iterations == 100
     # Cartographer reads a point count as an integer
     err = error_of(tmp_path, text.replace("min_num_points = 150", "min_num_points = 150.5"))
     assert err.line == line_of(text, "min_num_points") and "whole number" in err.message
-
-
-def test_global_localization_min_score_is_checked_and_reported_not_acted_on(tmp_path):
-    """It was range-checked and typed, yet nothing read it: now it is listed as ignored
-    when set (only then), and a value Cartographer would refuse is still an error."""
-    config = load_cartographer_config(write(tmp_path, TURTLEBOT3.replace("= 0.7", "= 0.6")))
-    assert config.ignored == []  # Cartographer's default: nothing asked for
-    assert not hasattr(config.pose_graph.constraint_builder, "global_localization_min_score")
-    bad = TURTLEBOT3.replace(
-        "global_localization_min_score = 0.7", "global_localization_min_score = 1.5"
-    )
-    err = error_of(tmp_path, bad)
-    assert err.line == line_of(bad, "global_localization_min_score")
-    assert err.key == GLOBAL_LOCALIZATION and "within [0, 1]" in err.message

@@ -84,8 +84,7 @@ def test_cartographer_options_btnav_does_not_act_on_are_one_warning(tmp_path, ca
     assert main(["slam", str(log), "--lua", str(lua), "-o", str(tmp_path / "out")]) == 0
     assert warnings_in(capsys.readouterr().err) == [
         f"btnav: warning: {lua}: btnav does not implement these Cartographer options and runs "
-        "without them: POSE_GRAPH.constraint_builder.global_localization_min_score, "
-        "POSE_GRAPH.optimization_problem.log_solver_summary"
+        "without them: POSE_GRAPH.optimization_problem.log_solver_summary"
     ]
 
 

@@ -114,11 +114,8 @@ BOUNDS: dict[str | Key, tuple[str, Callable[[float], bool]]] = {
     "num_accumulated_range_data": ("at least 1", lambda v: v >= 1), "num_range_data": ("at least 1", lambda v: v >= 1),
     "branch_and_bound_depth": ("at least 1", lambda v: v >= 1), "resolution": _GT0, "huber_scale": _GT0,
     "hit_probability": ("within (0.5, 1)", lambda v: 0.5 < v < 1), "miss_probability": ("within (0, 0.5)", lambda v: 0 < v < 0.5),
-    "sampling_ratio": _UNIT, "global_sampling_ratio": _UNIT, "min_score": _UNIT,
+    "sampling_ratio": _UNIT, "global_sampling_ratio": _UNIT, "min_score": _UNIT, "global_localization_min_score": _UNIT,
     ("num_subdivisions_per_laser_scan",): ("at least 1", lambda v: v >= 1),
-    # not implemented (global localisation against a frozen map: btnav loads none), so
-    # listed as ignored when set, yet checked as Cartographer reads it
-    (*PG, "constraint_builder", "global_localization_min_score"): _UNIT,
 }  # fmt: skip
 
 

@@ -126,6 +126,7 @@ class ConstraintBuilder:
     sampling_ratio: float
     max_constraint_distance: float
     min_score: float
+    global_localization_min_score: float
     loop_closure_translation_weight: float
     loop_closure_rotation_weight: float
     fast_correlative_scan_matcher: FastCorrelativeScanMatcher
