@@ -126,6 +126,9 @@ class ConstraintBuilder:
     sampling_ratio: float
     max_constraint_distance: float
     min_score: float
+    #: Cartographer reads it only for a node of one trajectory matched against another's
+    #: submaps (global localisation); btnav maps one trajectory, where Cartographer never
+    #: reads it either: range-checked, kept, no warning.
     global_localization_min_score: float
     loop_closure_translation_weight: float
     loop_closure_rotation_weight: float

@@ -349,8 +349,7 @@ class CartographerSlam:
         frames = context.frames
         for key in ("map_frame", "tracking_frame", "published_frame"):
             frames.require(getattr(f, key), key=key)
-        if c.ignored:
-            warnings.warn(BtnavWarning("btnav does not implement these Cartographer options and runs without them: " + ", ".join(c.ignored), file=c.file), stacklevel=2)  # fmt: skip
+        c.warn_ignored(stacklevel=2)
         # btnav's wheel odometry owns odom -> base: the map frame's child on the way to the
         # tracking frame is what SLAM publishes (Cartographer's published_frame)
         child = f.tracking_frame
