@@ -62,3 +62,53 @@ def test_cartographer_config_without_cartographer_is_a_mistake(tmp_path):
     with pytest.raises(BtnavError) as info:
         Mission.load(mission(tmp_path, localization="slam", cartographer_config="robot.lua"))
     assert info.value.key == "cartographer_config"
+
+
+# -- the pose graph: saved by one mission, loaded by the next ------------------------------
+
+
+def slam_params(folder: Path, **keys) -> Path:
+    """Nav2's params with slam_toolbox's own section (mapper_params_online_async), `keys` set."""
+    doc = yaml.safe_load((REPO / "params" / "nav2_params.yaml").read_text())
+    slam = yaml.safe_load((REPO / "params" / "mapper_params_online_async.yaml").read_text())
+    slam["slam_toolbox"]["ros__parameters"].update(keys)
+    path = folder / "params.yaml"
+    path.write_text(yaml.safe_dump({**doc, **slam}, sort_keys=False))
+    return path
+
+
+def test_a_mission_s_pose_graph_is_what_mode_localization_localises_on(tmp_path):
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir()
+    second.mkdir()
+    task = {"follow_waypoints": [[7.0, 1.2, 0.0]]}
+    spec = mission(first, localization="slam", task=task, outputs=["map", "pose_graph"])
+    assert run_mission(Mission.load(spec), first).status == "succeeded"
+    assert (first / "pose_graph.npz").is_file()
+
+    # slam_toolbox's map_file_name: the file's name without its extension
+    params = slam_params(second, mode="localization", map_file_name=str(first / "pose_graph"))
+    task = {"navigate_to_pose": [4.0, 1.2, 0.0]}
+    spec = mission(second, localization="slam", params=str(params), task=task)
+    report = run_mission(Mission.load(spec), second)
+    assert report.status == "succeeded" and report.collisions == 0
+    assert report.localization_error["rms_xy"] <= 0.05, report.localization_error
+    # the map it drove on is the first mission's, not one of its own: driving to x = 4 m
+    # with an 8 m lidar, it would have seen no further than x = 12.1 m
+    from btnav.maps import load_map
+
+    mapped, used = load_map(first / "map.yaml"), load_map(second / "map.yaml")
+    assert used.size_m[0] >= mapped.size_m[0] > 13.0
+
+
+@pytest.mark.parametrize("localization", ["ground_truth", "cartographer"])
+def test_a_pose_graph_from_a_localiser_without_one_names_the_output(tmp_path, localization):
+    fields = {"localization": localization, "outputs": ["report", "pose_graph"]}
+    if localization == "ground_truth":
+        fields["map"] = str(REPO / "maps" / "small_office.yaml")
+    path = mission(tmp_path, **fields)
+    line = next(n for n, t in enumerate(path.read_text().splitlines(), 1) if "pose_graph" in t)
+    with pytest.raises(BtnavError, match="needs localization: slam") as info:
+        Mission.load(path)
+    err = info.value
+    assert err.file == str(path) and err.line == line and err.key == "outputs[1]"

@@ -37,7 +37,7 @@ from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
 from .errors import MissionError
-from .outputs import check_outputs
+from .outputs import OUTPUT_NEEDS, check_outputs
 from .param_frames import check_frames
 from .spec import (
     SLAM,
@@ -155,6 +155,7 @@ class Mission:
             load_plugins(spec.plugins, base, file=str(file))
         check_outputs(spec.outputs, lambda i: where("outputs", i))
         _check_localization(spec, where)
+        _check_output_needs(spec, where)
 
         world_path = _existing(resolve(base, spec.world), "world", where)
         world = load_world_spec(world_path)
@@ -449,6 +450,20 @@ def _cartographer_config(spec: MissionSpec, base: Path, where: Any) -> Any:
         return load_cartographer_config(bundled_dir("params") / "cartographer_2d.lua")
     path = _existing(resolve(base, spec.cartographer_config), "cartographer_config", where)
     return load_cartographer_config(path)
+
+
+def _check_output_needs(spec: MissionSpec, where: Any) -> None:
+    """An output the localiser cannot give (`pose_graph` without slam_toolbox's graph)."""
+    for i, name in enumerate(spec.outputs):
+        need = OUTPUT_NEEDS.get(name)
+        if need is None or spec.localization in need:
+            continue
+        raise MissionError(
+            f"output '{name}' is slam_toolbox's serialised pose graph: it needs "
+            f"localization: {' or '.join(need)}, and localization: {spec.localization} "
+            "keeps no graph that mode: localization can load",
+            **where("outputs", i),
+        )
 
 
 def _check_localization(spec: MissionSpec, where: Any) -> None:
