@@ -10,8 +10,9 @@
    SLAM alone would run at. Printed beside it: the trajectory's error (the optimised
    nodes and what the robot believed while driving) and odometry's, loop closures.
 2. A recorded log (default the Intel Research Lab's CARMEN log) through `btnav slam`'s
-   engine at its recorded rate: the log's duration over the wall time, scans processed
-   and loop closures (its relation errors: bench/slam_logs.py).
+   engine at its recorded rate: the log's duration over the wall time, scans processed,
+   loop closures and, with `<log stem>.relations` beside the log, the trajectory's mean
+   relation errors (scored by bench/slam_logs.py's rules; its full table: that script).
 
 Target: >= 10x real time on one core. numpy runs single-threaded.
 """
@@ -24,6 +25,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUME
     os.environ[_var] = "1"
 
 import argparse  # noqa: E402
+import math  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -90,7 +92,27 @@ def log_run(path: Path) -> None:
         f"{path.name}: {log.duration:.0f} s of log, {len(log.scans)} scans ({read:.1f} s to "
         f"read); SLAM {result.wall_time:.1f} s = {rtf:.0f}x real time (target >= "
         f"{TARGET:.0f}x); {result.processed} processed, {result.mapper.loop_closures} loop "
-        "closures"
+        f"closures{log_errors(path, result.stamps, result.poses)}"
+    )
+
+
+def log_errors(path: Path, stamps: np.ndarray, poses: np.ndarray) -> str:
+    """The run's mean relation errors, scored as bench/slam_logs.py scores them, from the
+    relations file it finds beside the log; "" without one."""
+    from slam_logs import relations_path  # bench/slam_logs.py: which file scores a log
+
+    from btnav.slam.metrics import relation_errors, relations
+
+    rel_path = relations_path(path)
+    if not rel_path.exists():
+        return ""
+    rel = relations(rel_path)
+    e = relation_errors(stamps, poses, rel)
+    if e.used == 0:
+        return f"; no relation of {rel_path.name} within 50 ms of a scan"
+    return (
+        f"; relation errors {100 * e.trans_mean:.2f} cm, {math.degrees(e.rot_mean):.2f} deg "
+        f"(mean over {e.used} of {len(rel)} in {rel_path.name})"
     )
 
 

@@ -37,7 +37,7 @@ from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
 from .errors import MissionError
-from .outputs import check_outputs
+from .outputs import OUTPUT_NEEDS, check_outputs
 from .param_frames import check_frames
 from .spec import (
     SLAM,
@@ -155,11 +155,15 @@ class Mission:
             load_plugins(spec.plugins, base, file=str(file))
         check_outputs(spec.outputs, lambda i: where("outputs", i))
         _check_localization(spec, where)
+        _check_output_needs(spec, where)
 
         world_path = _existing(resolve(base, spec.world), "world", where)
         world = load_world_spec(world_path)
         if spec.initial_pose is not None:
             world.robot.pose = spec.initial_pose
+        if spec.odometry is not None:  # the keys the mission gives replace the world's
+            given = {k: getattr(spec.odometry, k) for k in spec.odometry.model_fields_set}
+            world.robot.odometry = world.robot.odometry.model_copy(update=given)
 
         params_path = (
             _existing(resolve(base, spec.params), "params", where)
@@ -211,6 +215,18 @@ class Mission:
         """The robot's frame tree at t = 0 (REP-105 and its sensors' frames)."""
         return world_frame_tree(world if world is not None else self.build_world(), self.seed)
 
+    def _odometry_error(self, err: WorldError) -> BtnavError:
+        """A world error about the odometry's source, blamed on the mission when the
+        mission chose that source (laser odometry on a robot with no lidar)."""
+        odometry = self.spec.odometry
+        if err.key != "robot.odometry.source" or odometry is None:
+            return err
+        if "source" not in odometry.model_fields_set:
+            return err
+        return MissionError(
+            f"{err.message} (the world {err.file} has none)", **self.where("odometry", "source")
+        )
+
     def _tree_key(self, action: str) -> dict[str, Any]:
         """Where the task's tree is named: the mission's `tree`, else bt_navigator's default."""
         if self.tree is not None:
@@ -233,14 +249,17 @@ class Mission:
         first, every frame the params name is checked against the robot's frame tree."""
         world = self.build_world()
         check_frames(self.params, self.frame_tree(world), self.set_by)
-        nav = cls.from_files(
-            world,
-            self.params,
-            self.map_file,
-            seed=self.seed,
-            localization=self.spec.localization,
-            slam_config=self.slam_config,
-        )
+        try:
+            nav = cls.from_files(
+                world,
+                self.params,
+                self.map_file,
+                seed=self.seed,
+                localization=self.spec.localization,
+                slam_config=self.slam_config,
+            )
+        except WorldError as err:
+            raise self._odometry_error(err) from None
         action = TASK_ACTION[self.task]
         try:  # the task's tree is built now, so a bad tree is a load error, not a failed run
             if action:
@@ -431,6 +450,20 @@ def _cartographer_config(spec: MissionSpec, base: Path, where: Any) -> Any:
         return load_cartographer_config(bundled_dir("params") / "cartographer_2d.lua")
     path = _existing(resolve(base, spec.cartographer_config), "cartographer_config", where)
     return load_cartographer_config(path)
+
+
+def _check_output_needs(spec: MissionSpec, where: Any) -> None:
+    """An output the localiser cannot give (`pose_graph` without slam_toolbox's graph)."""
+    for i, name in enumerate(spec.outputs):
+        need = OUTPUT_NEEDS.get(name)
+        if need is None or spec.localization in need:
+            continue
+        raise MissionError(
+            f"output '{name}' is slam_toolbox's serialised pose graph: it needs "
+            f"localization: {' or '.join(need)}, and localization: {spec.localization} "
+            "keeps no graph that mode: localization can load",
+            **where("outputs", i),
+        )
 
 
 def _check_localization(spec: MissionSpec, where: Any) -> None:

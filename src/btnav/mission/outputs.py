@@ -1,6 +1,9 @@
 """A run's outputs: the built-in files, and `output` plugins for everything else.
 
-`report`, `trajectory`, `bt_log` and `map` are written by the run itself. Any other
+`report`, `trajectory`, `bt_log`, `map` and `pose_graph` are written by the run itself;
+`pose_graph` is slam_toolbox's SerializePoseGraph at the end of a `localization: slam`
+run (`pose_graph.npz`, as `btnav slam -o` writes it), which a later mission loads with
+slam_toolbox's `map_file_name` (`mode: localization`, or `mapping` to continue the map). Any other
 name in a mission's `outputs:` is an `output` plugin (`@register("output", "png")`),
 called once the run has ended with a `RunOutput`; `files` lists what it writes.
 An output that records the run as it goes (a GIF's frames, a bag's messages) also
@@ -38,7 +41,10 @@ BUILTIN_OUTPUTS: dict[str, tuple[str, ...]] = {
     "trajectory": ("trajectory.csv",),
     "bt_log": ("bt_log.jsonl",),
     "map": ("map.yaml", "map.pgm"),
+    "pose_graph": ("pose_graph.npz",),
 }
+#: Outputs only some localisers can give, and which (`localization:` values).
+OUTPUT_NEEDS: dict[str, tuple[str, ...]] = {"pose_graph": ("slam",)}
 DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
 
 

@@ -3,8 +3,8 @@
 The run builds the bring-up (`Mission.navigator`), adds the recorders its outputs
 need, sends the task as nav2_simple_commander would and polls it on sim time until
 it ends or `time_limit` passes (then it is canceled, as BasicNavigator's examples
-do). It writes `report.json`, `trajectory.csv`, `bt_log.jsonl` and the map as the
-mission's `outputs` ask, then hands the run to each `output` plugin asked for
+do). It writes `report.json`, `trajectory.csv`, `bt_log.jsonl`, the map and the SLAM
+pose graph as the mission's `outputs` ask, then hands the run to each `output` plugin asked for
 (`png` with the viz extra). A navigation failure is a report with Nav2's error code,
 never an exception.
 """
@@ -117,6 +117,8 @@ def run_mission(
     if out is not None:
         if "map" in outputs and nav.stack.map_server.map is not None:
             nav.save_map(out / output_files("map")[0])
+        if "pose_graph" in outputs:  # slam_toolbox's SerializePoseGraph (checked on load)
+            nav.runtime.localizer.serialize_pose_graph(out / output_files("pose_graph")[0])
         for plugin in plugins.values():
             plugin.write(RunOutput(out, mission, nav, report, recorder.track))
         if "report" in outputs:

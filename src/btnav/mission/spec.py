@@ -7,6 +7,7 @@ params: ../params/nav2_params.yaml
 map: ../maps/small_office.yaml
 localization: ground_truth
 initial_pose: [1.0, 1.0, 0.0]
+odometry: {source: wheels}       # over the world's robot.odometry (laser: scan matching)
 task:
   follow_waypoints: [[3, 2, 1.57], [6, 3, 0], [9, 1.5, 0]]
 time_limit: 300
@@ -36,6 +37,7 @@ from ..core.errors import BtnavError
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import YamlMap, line_at, load_yaml
 from ..params.tree import copy_tree, set_path
+from ..sim.world_spec import OdometrySpec
 from .errors import MissionError
 from .outputs import DEFAULT_OUTPUTS
 from .stage_doc import STAGES, stage_doc, stage_names
@@ -125,6 +127,9 @@ class MissionSpec(StrictModel):
     #: mission; default: btnav's params/cartographer_2d.lua).
     cartographer_config: str | None = None
     initial_pose: Pose | None = None
+    #: The robot's odometry over the world's `robot.odometry`: the keys given here replace
+    #: the world's (`{source: laser}`: laser odometry publishes odom -> base_footprint).
+    odometry: OdometrySpec | None = None
     tree: str | None = None
     task: TaskSpec
     time_limit: float = Field(

@@ -2,7 +2,8 @@
 
 Columns: `t, gt_x, gt_y, gt_yaw, est_x, est_y, est_yaw, odom_x, odom_y, odom_yaw, cmd_v,
 cmd_w, contact`: the ground-truth pose, the localiser's estimate (the frame tree's
-`map -> base_footprint`), the wheel odometry, the command the controller sent, and 1
+`map -> base_footprint`), the odometry (`odom -> base_footprint`: the wheels', or laser
+odometry's with `odometry: {source: laser}`), the command the controller sent, and 1
 on the row of the control cycle during which a new contact began (else 0; the
 report's `contacts` says what was hit). The recorder runs in the runtime's MONITOR
 stage at the controller's rate, so each row sees the command of that control cycle.

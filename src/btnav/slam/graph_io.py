@@ -67,7 +67,11 @@ def save_pose_graph(mapper: Mapper, path: str | PathLike[str]) -> Path:
     return out
 
 
-def load_pose_graph(path: str | PathLike[str], params: SlamToolboxParams) -> Mapper:
+def load_pose_graph(
+    path: str | PathLike[str], params: SlamToolboxParams, into: Mapper | None = None
+) -> Mapper:
+    """slam_toolbox's DeserializePoseGraph: the graph and its scans, into a new `Mapper`
+    (started where the file's was) or into `into` (a mapper that goes on mapping)."""
     src = Path(path)
     try:
         with np.load(src, allow_pickle=False) as z:
@@ -76,7 +80,7 @@ def load_pose_graph(path: str | PathLike[str], params: SlamToolboxParams) -> Map
             d = {k: z[k] for k in z.files}
     except (OSError, ValueError) as err:
         raise PoseGraphFileError(f"cannot read the pose graph: {err}", file=src) from None
-    mapper = Mapper(params, d["start"])
+    mapper = into if into is not None else Mapper(params, d["start"])
     mapper.graph = PoseGraph.from_arrays(
         {k.removeprefix("graph_"): v for k, v in d.items() if k.startswith("graph_")}
     )

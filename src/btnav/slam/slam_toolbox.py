@@ -8,8 +8,14 @@ scan) to every `subscribe_map` callback, as slam_toolbox's latched `/map`; it is
 rebuilt from every scan at its optimised pose after a loop closure. The map frame is
 anchored where `map -> odom` was when SLAM started (the mission's initial pose) unless
 `map_start_pose` is given. With `mode: localization` the pose graph in `map_file_name`
-(written by `serialize_pose_graph` or `btnav slam`) is loaded, its map published, and
-the robot tracked on it (`GraphLocalizer`); nothing is added to the graph. Without a `slam_toolbox:` section in the mission's params
+(written by `serialize_pose_graph`, a mission's `pose_graph` output or `btnav slam`) is
+loaded, its map published, and the robot tracked on it (`GraphLocalizer`); nothing is
+added to the graph. With `mode: mapping` and `map_file_name` the graph is loaded and
+mapping goes on from it (slam_toolbox's continued mapping): the first scan is placed at
+`map_start_pose` (default: the start pose) and matched against the graph's scan nearest
+to it (`ContinuedMapper.process_near`), and later scans follow from there, their
+odometry carried into the graph's odometry frame (slam_toolbox's reprocessing
+transform). Without a `slam_toolbox:` section in the mission's params
 the section of slam_toolbox's own mapper_params_online_async.yaml applies (bundled in
 params/), the file Nav2's slam_launch.py hands slam_toolbox.
 """
@@ -37,7 +43,7 @@ from ..params.paramsfile import ParamsFile
 from ..plugins import register
 from .graph_io import graph_file, load_pose_graph, save_pose_graph
 from .graph_localizer import GraphLocalizer
-from .mapper import Mapper
+from .mapper import Mapper, Scan
 from .occupancy_mapper import OccupancyMapper
 from .scan_gate import ScanGate
 from .scan_points import scan_points
@@ -84,6 +90,10 @@ class SlamToolbox:
         self._map_revision = 0
         #: `mode: localization`: the robot is tracked on a loaded graph that never changes.
         self.localizer: GraphLocalizer | None = None
+        #: A continued map: where the session's first scan goes, until it has gone; then
+        #: the session's odom frame in the graph's (slam_toolbox's reprocessing transform).
+        self._continue_at: np.ndarray | None = None
+        self._odom_in_graph: Pose2D | None = None
         if p.mode == "localization":
             if not p.map_file_name:
                 raise ParamsError(
@@ -92,6 +102,12 @@ class SlamToolbox:
                 )
             self.mapper = load_pose_graph(graph_file(p.map_file_name), p)
             self.localizer = GraphLocalizer(self.mapper, anchor)
+        elif p.map_file_name:
+            self.mapper = load_pose_graph(
+                graph_file(p.map_file_name), p, into=ContinuedMapper(p, anchor)
+            )
+            self._continue_at = anchor
+            self._map_revision = -1  # drawn at once, or with the first new scan
         else:
             self.mapper = Mapper(p, anchor)
         self._map_subscribers: list[Callable[[OccupancyGrid], None]] = []
@@ -104,6 +120,16 @@ class SlamToolbox:
         self.pose = PoseWithCovariance(
             context.clock.now, frames.lookup(p.map_frame, p.base_frame), frame_id=p.map_frame
         )
+        if self.mapper.scans and context.latest_scan is not None:
+            self._publish_loaded(context.latest_scan)
+
+    def _publish_loaded(self, scan: LaserScan) -> None:
+        """A loaded graph's map, published as it is loaded (slam_toolbox does so on
+        deserialising): a goal beyond the lidar's reach on that map is on the map at once."""
+        p = self.params
+        self._laser = self.context.frames.lookup(p.base_frame, scan.frame_id).as_array()
+        self._rebuild()
+        self.publish_map(scan.stamp)
 
     # -- topics ------------------------------------------------------------------------------
 
@@ -145,7 +171,7 @@ class SlamToolbox:
                 self.publish_map(scan.stamp)
             estimate = Pose2D.from_array(self.localizer.process(odom, points))
         else:
-            if not self.mapper.process(scan.stamp, odom, points, ranges, angles):
+            if not self._map_scan(scan.stamp, odom_t_base, points, ranges, angles):
                 return False
             node = len(self.mapper.scans) - 1
             if self.mapper.revision != self._map_revision:
@@ -160,6 +186,26 @@ class SlamToolbox:
         frames.set_transform(p.map_frame, p.odom_frame, self.map_to_odom, scan.stamp)
         self.pose = PoseWithCovariance(scan.stamp, estimate, frame_id=p.map_frame)
         return True
+
+    def _map_scan(
+        self,
+        stamp: float,
+        odom_t_base: Pose2D,
+        points: np.ndarray,
+        ranges: np.ndarray,
+        angles: np.ndarray,
+    ) -> bool:
+        """The mapper's `process`; on a continued map, the session's first scan is placed
+        near `map_start_pose` instead, and fixes the odometry's place in the graph's frame."""
+        mapper = self.mapper
+        if self._continue_at is not None and isinstance(mapper, ContinuedMapper):
+            guess = (Pose2D.from_array(self._continue_at) @ odom_t_base).as_array()
+            in_graph = mapper.process_near(stamp, guess, points, ranges, angles)
+            self._odom_in_graph = Pose2D.from_array(in_graph) @ odom_t_base.inverse()
+            self._continue_at = None
+            return True
+        odom = odom_t_base if self._odom_in_graph is None else self._odom_in_graph @ odom_t_base
+        return mapper.process(stamp, odom.as_array(), points, ranges, angles)
 
     def serialize_pose_graph(self, path: str | PathLike[str]) -> Path:
         """slam_toolbox's SerializePoseGraph: the graph and its scans, for `mode: localization`."""
@@ -179,3 +225,49 @@ class SlamToolbox:
         for callback in self._map_subscribers:
             callback(self.map)
         return self.map
+
+
+class ContinuedMapper(Mapper):
+    """Karto's Mapper going on from a deserialised graph (slam_toolbox's continued mapping):
+    the session's first scan is placed by `process_near`, every later one by `process`."""
+
+    #: The node the next link from "the scan before" comes from (Karto's last scan).
+    _previous: int | None = None
+
+    def process_near(
+        self, stamp: float, guess: np.ndarray, points: np.ndarray, ranges: Any, angles: Any
+    ) -> np.ndarray:
+        """Karto's ProcessAgainstNodesNearBy: the scan matched, from `guess` (the map start
+        pose), against the graph's scan nearest to it, which stands for the scan before it
+        (its first edge, the running buffer); then linked to near chains and loops closed,
+        as any scan. Its odometric pose is its matched pose, as Karto sets it: returned, it
+        places the new session's odometry in the graph's odometry frame."""
+        p = self.params
+        pose, covariance = np.asarray(guess, float), np.eye(3)
+        if self.scans:
+            d2 = ((self.poses[:, :2] - pose[:2]) ** 2).sum(axis=1)
+            self._previous = int(np.argmin(d2))
+            self.running = [self._previous]
+            if p.use_scan_matching and len(points):
+                match = self.sequential.match(points, pose, self._reference(self.running))
+                pose, covariance = np.asarray(match.pose, float), match.covariance
+        scan = Scan(stamp, pose.copy(), np.asarray(points, float), ranges, angles)
+        if len(scan.points):
+            scan.centroid = scan.points.mean(axis=0)
+        self.scans.append(scan)
+        node = self.graph.add_node(pose)
+        if p.use_scan_matching:
+            if self._previous is not None:
+                self._add_edges(node, pose, covariance)
+            self._add_running(node)
+            if p.do_loop_closing and len(scan.points):
+                self._try_close_loop(node)
+        self._previous = None
+        return scan.odom_pose
+
+    def _link(self, i: int, j: int, mean: np.ndarray, covariance: np.ndarray) -> None:
+        """Karto links a scan first to its last scan: for `process_near`'s scan that is the
+        graph's scan nearest to it (`_previous`), not the one before it in the file."""
+        if self._previous is not None:
+            i, self._previous = self._previous, None
+        super()._link(i, j, mean, covariance)
