@@ -121,7 +121,8 @@ class SlamToolboxParams(NodeParams):
     yaw_covariance_scale: float = ignored(1.0, _NO_COVARIANCE, gt=0.0)
     map_start_pose: list[float] | None = Field(None, min_length=3, max_length=3)
     #: A serialised pose graph (`.npz`, the extension may be left out as slam_toolbox
-    #: does): loaded and localised on with `mode: localization`.
+    #: does): localised on with `mode: localization`, mapped on from (`map_start_pose`
+    #: placing the first new scan) with `mode: mapping`.
     map_file_name: str = ""
     # Karto mapper
     use_scan_matching: bool = True
