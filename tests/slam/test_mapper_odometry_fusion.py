@@ -27,6 +27,7 @@ from btnav.params.localization import SlamToolboxParams
 from btnav.slam import mapper as mapper_module
 from btnav.slam import odometry_noise
 from btnav.slam.logs import RecordedLog
+from btnav.slam.odometry_fusion import OdometryFusion
 from btnav.slam.offline import run_slam
 
 from .test_scan_matcher import BEAMS, RANGE_MAX, box, cast_ranges, laser_scan, polyline
@@ -84,7 +85,7 @@ def heading_errors(heading_noise: float = 0.0) -> tuple[np.ndarray, mapper_modul
 def test_good_odometry_keeps_an_ambiguous_scan_from_turning():
     errors, mapper = heading_errors()
     assert mapper.odometry_noise.trusted
-    assert mapper.odometry_fusions >= 1  # the ambiguous scan was fused
+    assert mapper.fusion.heading_fusions >= 1  # the ambiguous scan was fused
     # the fused match is half of Karto's weighted mean: the older scans it links to
     # (`_add_edges`) still match its scan turned
     assert errors.max() < math.radians(5.5), np.degrees(errors.max())
@@ -94,7 +95,7 @@ def test_without_the_fusion_the_scan_turns(monkeypatch):
     """What holds it: Karto's match alone places the scan 10 degrees off."""
     monkeypatch.setattr(odometry_noise, "MINIMUM_COUNT", 10**9)
     errors, mapper = heading_errors()
-    assert mapper.odometry_fusions == 0
+    assert mapper.fusion.heading_fusions == 0
     assert errors.max() > math.radians(9.0), np.degrees(errors.max())
 
 
@@ -103,15 +104,15 @@ def test_noisy_odometry_is_not_fused(monkeypatch):
     ACES's and the Intel lab's): learnt as such, and the map is Karto's, bit for bit
     (the ambiguous scan turns as Karto turns it; fused, it would turn 6 degrees instead
     of 9.5: the gate gives that up for closure decisions that stay Karto's). The fusion
-    along a match's open direction (`mapper.OPEN_DIRECTION_GATE`, position only, for
+    along a match's open direction (`odometry_fusion.OPEN_DIRECTION_GATE`, position only, for
     odometry that measures travel well whatever its heading) is left out of both runs."""
-    monkeypatch.setattr(mapper_module.Mapper, "_fuse_open_direction", lambda s, p, i, r: r.pose)
+    monkeypatch.setattr(OdometryFusion, "open_direction", lambda s, p, i, r: r.pose)
     _, mapper = heading_errors(math.radians(0.3))
     assert mapper.odometry_noise.trusted
     p = mapper.params
     per_metre = mapper.odometry_noise.per_unit()[0]
     assert per_metre * p.minimum_travel_distance > 2.0 * p.fine_search_angle_offset
-    assert mapper.odometry_fusions == 0
+    assert mapper.fusion.heading_fusions == 0
     monkeypatch.setattr(odometry_noise, "MINIMUM_COUNT", 10**9)  # no fusion at all
     _, karto = heading_errors(math.radians(0.3))
     np.testing.assert_array_equal(mapper.poses, karto.poses)

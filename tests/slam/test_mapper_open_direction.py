@@ -21,6 +21,7 @@ from btnav.core.geometry import compose_arrays, relative_arrays
 from btnav.params.localization import SlamToolboxParams
 from btnav.slam.logs import RecordedLog
 from btnav.slam.mapper import Mapper
+from btnav.slam.odometry_fusion import OdometryFusion
 from btnav.slam.offline import run_slam
 from btnav.slam.scan_matcher import MatchResult
 
@@ -85,15 +86,15 @@ def slide_along_the_bare_stretch() -> tuple[float, Mapper]:
 def test_the_map_holds_its_place_along_a_bare_corridor():
     slide, mapper = slide_along_the_bare_stretch()
     assert mapper.odometry_noise.trusted
-    assert mapper.odometry_fusions == 0  # the three-dimensional fusion stays out
-    assert mapper.open_direction_fusions >= 25
-    assert mapper.open_direction_fusions_refused == 0
+    assert mapper.fusion.heading_fusions == 0  # the three-dimensional fusion stays out
+    assert mapper.fusion.open_direction_fusions >= 25
+    assert mapper.fusion.open_direction_fusions_refused == 0
     assert slide < 0.03, slide
 
 
 def test_karto_s_match_alone_slides_along_it(monkeypatch):
     """What holds it: Karto's best pose alone wanders along the corridor."""
-    monkeypatch.setattr(Mapper, "_fuse_open_direction", lambda self, pred, inc, r: r.pose)
+    monkeypatch.setattr(OdometryFusion, "open_direction", lambda self, pred, inc, r: r.pose)
     slide, _ = slide_along_the_bare_stretch()
     assert slide > 0.2, slide
 
@@ -132,12 +133,12 @@ def test_only_the_open_direction_moves_to_the_odometry():
         v = np.array([-u[1], u[0]])
         # the odometry 12 cm further along the corridor, 2 cm across, 3 degrees turned
         prediction = match.pose + np.array([*(0.12 * u + 0.02 * v), math.radians(3.0)])
-        pose = mapper._fuse_open_direction(prediction, step, match)
+        pose = mapper.fusion.open_direction(prediction, step, match)
         moved = pose[:2] - match.pose[:2]
         assert 0.11 < float(moved @ u) < 0.12  # nearly all the way along
         assert abs(float(moved @ v)) < 1e-12  # not across
         assert pose[2] == match.pose[2]  # nor in heading
-    assert mapper.open_direction_fusions == 4
+    assert mapper.fusion.open_direction_fusions == 4
 
 
 def test_odometry_that_disagrees_or_is_no_surer_leaves_the_match_alone():
@@ -146,10 +147,10 @@ def test_odometry_that_disagrees_or_is_no_surer_leaves_the_match_alone():
     match = corridor_match(0.0)
     # a wheel slip: the odometry 1 m along the corridor from the match
     slipped = match.pose + np.array([1.0, 0.0, 0.0])
-    assert np.array_equal(mapper._fuse_open_direction(slipped, step, match), match.pose)
-    assert mapper.open_direction_fusions_refused == 1
+    assert np.array_equal(mapper.fusion.open_direction(slipped, step, match), match.pose)
+    assert mapper.fusion.open_direction_fusions_refused == 1
     # a match sure along every direction (a room): the odometry is no surer
     room = MatchResult(match.pose, np.diag([0.01**2, 0.01**2, 1e-4]), 0.9, 1e-4)
     near = room.pose + np.array([0.02, 0.0, 0.0])
-    assert np.array_equal(mapper._fuse_open_direction(near, step, room), room.pose)
-    assert mapper.open_direction_fusions == 0
+    assert np.array_equal(mapper.fusion.open_direction(near, step, room), room.pose)
+    assert mapper.fusion.open_direction_fusions == 0

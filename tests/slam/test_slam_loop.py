@@ -109,7 +109,7 @@ def test_localization_mode_without_a_graph_names_the_key():
 def test_the_issue_s_bounds_hold_at_other_seeds(seed):
     """Seed 0's bounds (the tests above) at seeds 1-9: other odometry drifts and lidar
     noise. Before the mapper held its matches along the corridors to the odometry
-    (`mapper.OPEN_DIRECTION_GATE`) seeds 3, 5 and 9 failed: node ATE 9.5, 11.1 and
+    (`odometry_fusion.OPEN_DIRECTION_GATE`) seeds 3, 5 and 9 failed: node ATE 9.5, 11.1 and
     12.1 cm, 88-93% of the occupied cells near a wall (now 7.4, 5.6 and 2.6 cm, 97-100%)."""
     run = drive_loop(seed=seed)
     mapper = run.slam.mapper

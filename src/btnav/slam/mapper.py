@@ -39,6 +39,8 @@ from numpy.typing import ArrayLike, NDArray
 from ..core import fmath
 from ..core.geometry import compose_arrays, normalize_angle
 from ..params.localization import SlamToolboxParams
+from .covariance import inv3, largest_variance
+from .odometry_fusion import FUSE_BELOW_RESPONSE, LEARN_ABOVE_RESPONSE, OdometryFusion
 from .odometry_noise import OdometryNoise
 from .pose_graph import PoseGraph
 from .scan_matcher import COVARIANCE_WINDOW, MatcherParams, MatchResult, ScanMatcher
@@ -97,64 +99,6 @@ LOOP_CLOSURE_MAX_ERROR_INCREASE = 60.0
 #: 0.84 m passed and locked the drift in, refusing 30 right closures after it).
 CLOSURE_AGREEMENT_DISTANCE = 0.2
 CLOSURE_AGREEMENT_ANGLE = 0.05
-#: A sequential match below this response (`RESCUE_BELOW_RESPONSE`'s: poorly supported)
-#: that the wider search did not replace is fused with the odometry's prediction, by
-#: their covariances (`Mapper._fuse_odometry`), the odometry's learnt from the log
-#: (`OdometryNoise`). Karto takes the match alone, and on the Freiburg hospital, whose
-#: odometry drifts 0.3 degrees per metre, matches of response 0.2-0.5 in corridors turned
-#: the map by 6-20 degrees (relation errors over the whole tour 281 cm, fused 58 cm;
-#: over the local relations 11.08 and 10.13 cm).
-FUSE_BELOW_RESPONSE = 0.7
-#: ... where the odometry's heading variance is below this share of the match's (its
-#: standard deviation under half): where they are comparable the fusion moves a node by
-#: a degree or so for little gain, and that is enough to change which loop closures
-#: pass (Freiburg 079: a 1.4-degree fusion at 1987 s refused the closure to 1226 s,
-#: 6.82 -> 13.16 cm; with this test 6.96 cm)...
-ODOMETRY_RATIO = 0.25
-#: ... and only for odometry that, by the learnt model, turns less over a straight step
-#: of `minimum_travel_distance` (one node's travel) than this many fine angular steps of
-#: the matcher (`fine_search_angle_offset`: 0.2 degrees with slam_toolbox's defaults):
-#: odometry surer of the heading than the matcher can resolve. Elsewhere Karto's match
-#: stands alone: a fusion's nudge of a degree or so changes which loop closures pass,
-#: and Karto's closure decisions are not robust to that (Intel: two fusions of 1.5 and
-#: 0.5 degrees at nodes 619 and 857 let a closure 3 m wrong through at node 939, 3.61 ->
-#: 7.08 cm; FR079 6.84 -> 7.06 from two, ACES from three). Learnt over each benchmark
-#: log once trusted (`OdometryNoise.trusted`), in degrees per 0.5 m: the hospital
-#: 0.143-0.147, ACES 0.36-0.68, Freiburg 079 0.43-0.72, Intel 1.7-2.2, MIT CSAIL 1.9-6.2.
-#: With `minimum_travel_distance` 0 (scans on time only) every odometry passes.
-ODOMETRY_FINE_STEPS = 1.0
-#: ... and unless they disagree beyond this chi-square (3 dof, 99%): the match is kept.
-ODOMETRY_GATE = 11.34
-#: A sequential match at or above this response teaches `OdometryNoise` (good matches
-#: score 0.8-0.95 on the benchmark logs).
-LEARN_ABOVE_RESPONSE = 0.8
-#: A well-supported match (response at least `FUSE_BELOW_RESPONSE`; not replaced) is
-#: fused with the odometry along the direction its positional covariance is widest, the
-#: one the scan leaves most open (a corridor's length), where the odometry is clearly
-#: surer there (its learnt positional variance at most `ODOMETRY_RATIO` of the match's)
-#: and the two agree within this chi-square (1 dof, 99%); across that direction, and in
-#: heading, the match stands (`Mapper._fuse_open_direction`). Karto takes the best pose
-#: of a response that is flat along a corridor up to noise: on the corridor loop
-#: (tests/slam/test_slam_loop.py) Karto's standard deviation along the corridor is 8-17
-#: cm where the odometry's error is 0.5 cm a step, and at seed 9 the matches of nodes
-#: 30-34 slid the lap 18 cm along the lower corridor (2-8 cm each; node ATE 12.1 cm, 3.6
-#: with every match's error along its corridor taken out; 2.6 fused). Only the position
-#: moves: the edge keeps Karto's covariance, as every other edge does (Karto's
-#: covariances overstate the matcher's errors about 7 times alike in x, y and heading,
-#: on all ten seeds; the odometry's learnt variance along the corridor would make that
-#: edge 7 times stiffer there than across, and a loop closure's correction then goes
-#: into headings: seed 5 8.0 cm and 94% of the occupied cells within 10 cm of a wall
-#: with it, 5.6 cm and 99.8% without).
-#: Requiring the direction to be open (the variance across it under a quarter of the
-#: variance along) was tried: seeds 3 and 5 then miss the map bound (94.6%, 94.8%).
-#: Only for odometry that, by its learnt model, measures one node's travel
-#: (`minimum_travel_distance`) better than the coarse search's lattice step (twice
-#: `correlation_search_space_resolution`: 2 cm), as `ODOMETRY_FINE_STEPS` asks of its
-#: heading: the corridor loop's learns 1.1 cm, the benchmark logs' 2-3 cm. Without this
-#: test the fusion also ran on those logs and moved which loop closures pass (Intel 3.61
-#: -> 4.81 cm, Freiburg 079 6.84 -> 7.20, MIT CSAIL 3.50 -> 3.64); with it they are as
-#: before.
-OPEN_DIRECTION_GATE = 6.63
 
 
 def relative(a: F64, b: F64) -> F64:
@@ -177,22 +121,14 @@ def rotate_covariance(cov: F64, yaw: float) -> F64:
 
 def weighted_mean(means: list[F64], covariances: list[F64]) -> F64:
     """Karto's ComputeWeightedMean: positions by inverse covariance, heading by mean direction."""
-    inverses = [_inv3(c) for c in covariances]
-    total = _inv3(sum(inverses[1:], inverses[0]))
+    inverses = [inv3(c) for c in covariances]
+    total = inv3(sum(inverses[1:], inverses[0]))
     xy = np.zeros(3)
     for m, inv in zip(means, inverses, strict=True):
         xy = xy + fmath.matmul_k(fmath.matmul_k(total, inv), np.asarray(m, float)[:, None])[:, 0]
     s = sum(fmath.sin(float(m[2])) for m in means) / len(means)
     c = sum(fmath.cos(float(m[2])) for m in means) / len(means)
     return np.array([xy[0], xy[1], fmath.arctan2(s, c)])
-
-
-def largest_variance(covariance: F64) -> float:
-    """The positional covariance's largest eigenvalue: the variance along the direction
-    the match is least sure of (a corridor's length), closed form (no LAPACK)."""
-    a, b, c = float(covariance[0, 0]), float(covariance[0, 1]), float(covariance[1, 1])
-    h = 0.5 * (a - c)
-    return 0.5 * (a + c) + math.sqrt(h * h + b * b)
 
 
 def _agree(a: MatchResult, b: MatchResult) -> bool:
@@ -202,22 +138,6 @@ def _agree(a: MatchResult, b: MatchResult) -> bool:
         dx * dx + dy * dy < CLOSURE_AGREEMENT_DISTANCE**2
         and abs(normalize_angle(float(a.pose[2] - b.pose[2]))) < CLOSURE_AGREEMENT_ANGLE
     )
-
-
-def _inv3(m: F64) -> F64:
-    """Inverse of a 3 x 3 matrix by cofactors (no LAPACK: the same bits on every CPU)."""
-    a = np.asarray(m, float)
-    cof = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            r = [k for k in range(3) if k != i]
-            q = [k for k in range(3) if k != j]
-            minor = a[r[0], q[0]] * a[r[1], q[1]] - a[r[0], q[1]] * a[r[1], q[0]]
-            cof[i, j] = minor if (i + j) % 2 == 0 else -minor
-    det = a[0, 0] * cof[0, 0] + a[0, 1] * cof[0, 1] + a[0, 2] * cof[0, 2]
-    if det == 0.0:
-        raise np.linalg.LinAlgError("singular covariance")
-    return cof.T / det
 
 
 @dataclass
@@ -280,14 +200,8 @@ class Mapper:
         self.rescues = 0
         #: The odometry's noise, learnt from the well-supported sequential matches.
         self.odometry_noise = OdometryNoise()
-        #: Poorly supported matches fused with the odometry, and those kept alone because
-        #: the two disagreed (`ODOMETRY_GATE`).
-        self.odometry_fusions = 0
-        self.odometry_fusions_refused = 0
-        #: Well-supported matches fused with the odometry along the direction they leave
-        #: open, and those kept alone because the two disagreed (`OPEN_DIRECTION_GATE`).
-        self.open_direction_fusions = 0
-        self.open_direction_fusions_refused = 0
+        #: Sequential matches and that odometry, fused where it is surer (and counted).
+        self.fusion = OdometryFusion(params, self.odometry_noise)
         #: Bumped whenever existing poses move (an optimisation): the map must be rebuilt.
         self.revision = 0
         #: Bumped whenever any node pose changes; keys the barycenter cache.
@@ -389,9 +303,9 @@ class Mapper:
                 and result.response < FUSE_BELOW_RESPONSE
                 and self.odometry_noise.trusted
             ):
-                pose, covariance = self._fuse_odometry(pose, d, result)
+                pose, covariance = self.fusion.heading(pose, d, result)
             elif result is matched and self.odometry_noise.trusted:
-                pose, covariance = self._fuse_open_direction(pose, d, result), result.covariance
+                pose, covariance = self.fusion.open_direction(pose, d, result), result.covariance
             else:
                 pose, covariance = result.pose, result.covariance
         self.scans.append(scan)
@@ -403,77 +317,6 @@ class Mapper:
             if p.do_loop_closing and len(scan.points):
                 self._try_close_loop(node)
         return True
-
-    def _fuse_odometry(
-        self, prediction: F64, increment: F64, result: MatchResult
-    ) -> tuple[F64, F64]:
-        """A poorly supported match and the odometry's `prediction` (`increment` since the
-        last node) fused by their covariances (a Kalman update): the odometry's from its
-        learnt noise (`OdometryNoise`), the match's with its heading variance widened to
-        the coarse search's spread (`MatchResult.heading_variance`: Karto's angular
-        covariance sees only the fine search's +-1 degree, so a scan that fits about as
-        well 10 degrees off looks certain). The match alone is kept where the odometry
-        turns more per step than the matcher resolves (`ODOMETRY_FINE_STEPS`), is not
-        clearly surer of the heading than the match (`ODOMETRY_RATIO`) or the two
-        disagree (`ODOMETRY_GATE`). The fused covariance is the edge's to the previous node."""
-        p = self.params
-        per_metre = self.odometry_noise.per_unit()[0]
-        if (
-            per_metre * p.minimum_travel_distance
-            >= ODOMETRY_FINE_STEPS * p.fine_search_angle_offset
-        ):
-            return result.pose, result.covariance
-        odo = self.odometry_noise.covariance(increment)
-        match = np.array(result.covariance, float)
-        match[2, 2] = result.heading_variance  # (never below Karto's angular variance)
-        if odo[2, 2] > ODOMETRY_RATIO * match[2, 2]:
-            return result.pose, result.covariance
-        delta = np.asarray(result.pose, float) - prediction
-        delta[2] = normalize_angle(float(delta[2]))
-        s_inv = _inv3(odo + match)
-        chi2 = float(fmath.matmul_k(delta[None, :], fmath.matmul_k(s_inv, delta[:, None]))[0, 0])
-        if chi2 > ODOMETRY_GATE:
-            self.odometry_fusions_refused += 1
-            return result.pose, result.covariance
-        self.odometry_fusions += 1
-        gain = fmath.matmul_k(odo, s_inv)
-        pose = prediction + fmath.matmul_k(gain, delta[:, None])[:, 0]
-        pose[2] = normalize_angle(float(pose[2]))
-        cov = odo - fmath.matmul_k(gain, odo)
-        return pose, 0.5 * (cov + cov.T)
-
-    def _fuse_open_direction(self, prediction: F64, increment: F64, result: MatchResult) -> F64:
-        """The match's pose with its position along the direction of its largest positional
-        variance (the unit eigenvector u of Karto's covariance, eigenvalue `lam`) fused
-        with the odometry's `prediction` (`increment` since the last node): a Kalman
-        update on u . (x, y) alone, the odometry's variance `r` there from its learnt
-        noise (`OdometryNoise`, isotropic in position). Across u and in heading the match
-        stands. The match alone is kept unless the odometry is clearly surer along u
-        (`r` at most `ODOMETRY_RATIO` x `lam`) and the two agree (`OPEN_DIRECTION_GATE`).
-        btnav's, not Karto's: see `OPEN_DIRECTION_GATE`."""
-        p = self.params
-        per_metre = self.odometry_noise.per_unit()[2]
-        if per_metre * p.minimum_travel_distance >= 2.0 * p.correlation_search_space_resolution:
-            return result.pose  # not surer of a step's travel than the coarse lattice's step
-        cov = result.covariance
-        a, b, c = float(cov[0, 0]), float(cov[0, 1]), float(cov[1, 1])
-        lam = largest_variance(cov)
-        if abs(b) > 1e-12:  # (A - lam I) u = 0: u along (lam - c, b)
-            u = np.array([lam - c, b])
-        else:
-            u = np.array([1.0, 0.0]) if a >= c else np.array([0.0, 1.0])
-        u = u / math.sqrt(float(u @ u))
-        r = float(self.odometry_noise.covariance(increment)[0, 0])
-        if r > ODOMETRY_RATIO * lam:
-            return result.pose
-        along = float(u @ (np.asarray(prediction[:2], float) - np.asarray(result.pose[:2], float)))
-        if along * along > OPEN_DIRECTION_GATE * (lam + r):
-            self.open_direction_fusions_refused += 1
-            return result.pose
-        self.open_direction_fusions += 1
-        pose = np.array(result.pose, float)
-        pose[:2] += lam / (lam + r) * along * u
-        return pose
 
     def _rescue(
         self,
