@@ -13,7 +13,7 @@ minimum range (or zero, CARMEN's and many drivers' "no reading") is NaN (invalid
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -62,10 +62,11 @@ LIMITS = {
 }
 
 
-def implausible(values: ArrayLike, kind: str) -> NDArray[np.bool_]:
-    """Which `values` no log can hold as a `kind` (see `LIMITS`): not finite, or beyond
-    the limit. A range reading is never checked here: inf and NaN are valid ones."""
-    limit = LIMITS[kind][0]
+def implausible(values: ArrayLike, kind: str | Sequence[str]) -> NDArray[np.bool_]:
+    """Which `values` no log can hold as a `kind` (see `LIMITS`; one kind for all, or one
+    per value): not finite, or beyond the limit. A range reading is never checked here:
+    inf and NaN are valid ones."""
+    limit = LIMITS[kind][0] if isinstance(kind, str) else [LIMITS[k][0] for k in kind]
     return ~(np.abs(np.asarray(values, dtype=np.float64)) <= limit)
 
 
