@@ -52,6 +52,7 @@ from py_trees.common import Status
 
 from ..core.per_class import copy_hot_methods
 from .ports import BoundPortsMixin, PortInformation, input_port, output_port
+from .tick_state import TICK
 
 __all__ = [
     "TIME_EPS",
@@ -182,7 +183,12 @@ class _BtNode(BoundPortsMixin):
 
     def tick_once(self) -> None:
         """py_trees' `tick_once`, without generators."""
-        self.execute_tick()
+        outer = TICK.plain  # (a node may tick another tree inside its own tick)
+        TICK.plain = TICK.plain_now()
+        try:
+            self.execute_tick()
+        finally:
+            TICK.plain = outer
 
     def tick(self) -> Iterator[Behaviour]:
         """py_trees' generator tick, for `py_trees.trees.BehaviourTree` and its visitors: the
@@ -193,14 +199,16 @@ class _BtNode(BoundPortsMixin):
         saved = [node.__dict__.get("execute_tick") for node in nodes]
         for node in nodes:
             node.execute_tick = _recording(node.execute_tick, node, ticked)  # type: ignore[attr-defined]
+            unbind_child_ticks(node)
         try:
-            self.execute_tick()
+            self.tick_once()
         finally:
             for node, before in zip(nodes, saved, strict=True):
                 if before is None:
                     del node.execute_tick  # type: ignore[attr-defined]
                 else:
                     node.execute_tick = before  # type: ignore[attr-defined]
+                unbind_child_ticks(node)
         yield from ticked
 
     def stop(self, new_status: Status = _INVALID) -> None:
@@ -226,6 +234,23 @@ class _BtNode(BoundPortsMixin):
     def reset_state(self) -> None:
         """BT.CPP's halt(): forget the node's own progress (indices, counters, timers)."""
 
+    # -- the children's ticks, bound ----------------------------------------------------------
+
+    #: The children's `execute_tick`s, bound on a parent's first tick and unbound when its
+    #: children change: a call through `child.execute_tick()` is a generic lookup (the
+    #: children's classes differ), a call through this tuple is not.
+    child_ticks: tuple[Callable[[], Status], ...] | None
+
+    def bind_child_ticks(self) -> tuple[Callable[[], Status], ...]:
+        ticks = self.child_ticks = tuple(child.execute_tick for child in self.children)
+        return ticks
+
+
+def unbind_child_ticks(node: Behaviour) -> None:
+    """Forget the bound ticks of `node`'s children (after any change to them)."""
+    if getattr(node, "child_ticks", None) is not None:
+        node.child_ticks = None  # type: ignore[attr-defined]
+
 
 class ControlNode(_BtNode, py_trees.composites.Composite):
     """A composite with BT.CPP semantics; subclasses write `tick_children() -> Status`."""
@@ -240,21 +265,34 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
             kwargs["memory"] = self.MEMORY
         if isinstance(self, py_trees.composites.Parallel):
             kwargs["policy"] = py_trees.common.ParallelPolicy.SuccessOnAll()
+        self.child_ticks = None
         super().__init__(name=name, children=children, **kwargs)
         self.reset_state()
 
-    # py_trees adds children through these three; a plain py_trees child is adopted.
+    # py_trees changes children through these five (and methods that call them): a plain
+    # py_trees child is adopted, and the bound ticks are bound anew on the next tick.
     def add_child(self, child: Behaviour) -> Any:
         adopt(child)
+        self.child_ticks = None
         return super().add_child(child)
 
     def insert_child(self, child: Behaviour, index: int) -> Any:
         adopt(child)
+        self.child_ticks = None
         return super().insert_child(child, index)
 
     def prepend_child(self, child: Behaviour) -> Any:
         adopt(child)
+        self.child_ticks = None
         return super().prepend_child(child)
+
+    def remove_child(self, child: Behaviour) -> int:
+        self.child_ticks = None
+        return super().remove_child(child)
+
+    def remove_all_children(self) -> None:
+        self.child_ticks = None
+        super().remove_all_children()
 
     def execute_tick(self) -> Status:
         if self.status is not R and self._INITIALISES:
@@ -324,6 +362,7 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
     def __init__(self, name: str, child: Behaviour, **kwargs: Any):
         adopt(child)
+        self.child_ticks = None
         super().__init__(name=name, child=child, **kwargs)
         self.reset_state()
 
@@ -343,7 +382,7 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
     def tick_child(self) -> Status:
         """Tick the decorated child; its new status."""
-        return self.decorated.execute_tick()  # type: ignore[attr-defined]
+        return (self.child_ticks or self.bind_child_ticks())[0]()
 
     def update(self) -> Status:  # unused: execute_tick() does the work
         return self.status

@@ -52,10 +52,11 @@ class OrderedControl(ControlNode):
         reactive = self.REACTIVE
         index = 0 if reactive else self.current_child_idx
         count = len(children)
+        ticks = self.child_ticks or self.bind_child_ticks()
         while index < count:
             child = children[index]
             self.current_child = child
-            status = child.execute_tick()
+            status = ticks[index]()
             if status is R:
                 if reactive:
                     self.halt_others(index)

@@ -46,8 +46,10 @@ from ..nav.actions import GoalHandle, GoalStatus
 from ..plugins import register
 from .base import F, R, S, input_port, output_port
 from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_count, same_path
+from .tick_state import TICK
 
 _STORAGE: dict[str, Any] = Blackboard.storage
+_STORAGE_GET = _STORAGE.get  # bound once: reading a dict's method is not specialised
 _UNSET = object()
 _EXECUTING = GoalStatus.EXECUTING
 
@@ -384,10 +386,10 @@ class FollowPath(BtActionNode):
     def on_wait_for_result(self, feedback: Any) -> None:
         goal = self.goal
         matched = self._matched
-        if matched is not None and matched[0] is goal and Blackboard.activity_stream is None:
+        if matched is not None and matched[0] is goal and TICK.plain:
             # The goal and the four ports' entries are the very objects the goal was last
             # found to match (paths and ids are never changed in place): it still does.
-            get = _STORAGE.get
+            get = _STORAGE_GET
             k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
             if (
                 get(k_path, _UNSET) is matched[1]
@@ -410,8 +412,8 @@ class FollowPath(BtActionNode):
             # a new goal object: the running goal keeps what it was sent
             self.goal = dataclasses.replace(goal, **changes)
             self.goal_updated = True
-        elif self._watch_keys is not None and Blackboard.activity_stream is None:
-            get = _STORAGE.get
+        elif self._watch_keys is not None and TICK.plain:
+            get = _STORAGE_GET
             self._matched = (goal, *(get(k, _UNSET) for k in self._watch_keys))
         if feedback is not None:
             self._set_output("tracking_feedback", feedback)

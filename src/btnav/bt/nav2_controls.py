@@ -13,6 +13,7 @@ from py_trees.ports import PortInformation
 from ..plugins import register
 from .base import ControlNode, F, R, S, is_skipped
 from .errors import TreeError
+from .tick_state import TICK
 
 _STORAGE: dict[str, Any] = Blackboard.storage
 
@@ -33,17 +34,17 @@ class PipelineSequence(ControlNode, _PtSequence):
         # (current_child is set once the tick ends: no child of a btnav tree reads it)
         children = self.children
         last = self.last_child_ticked
-        for i, child in enumerate(children):
-            status = child.execute_tick()
+        for i, tick in enumerate(self.child_ticks or self.bind_child_ticks()):
+            status = tick()
             if status is S:  # (most children, most ticks)
                 continue
             if status is R:
                 if i >= last:
-                    self.current_child = child
+                    self.current_child = children[i]
                     self.last_child_ticked = i
                     return R
             elif status is F:
-                self.current_child = child
+                self.current_child = children[i]
                 self.halt_self()
                 return F
         if children:
@@ -84,12 +85,13 @@ class RecoveryNode(ControlNode, _PtSelector):
         # get_input("number_of_retries"), read straight from its key when that holds an int
         key = self._retries_key
         retries = _STORAGE.get(key) if key is not None else None
-        if type(retries) is not int or Blackboard.activity_stream is not None:
+        if type(retries) is not int or not TICK.plain:
             retries = self.get_input("number_of_retries")
+        ticks = self.child_ticks or self.bind_child_ticks()
         while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
             child = children[index]
             self.current_child = child
-            status = child.execute_tick()
+            status = ticks[index]()
             if status is R:
                 return R
             if index == 0:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
-import py_trees.logging as _pt_logging
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
@@ -21,9 +20,9 @@ from ..core.per_class import original
 from ..plugins import register
 from .base import S
 from .nav2_context import Nav2Leaf
+from .tick_state import TICK
 
 _STORAGE: dict[str, Any] = Blackboard.storage
-_INFO = _pt_logging.Level.INFO
 
 
 class _Selector(Nav2Leaf):
@@ -57,15 +56,10 @@ class _Selector(Nav2Leaf):
         """Once a selection is made a tick of an active selector only writes it again (five
         selectors tick 100 times a second): that write, straight to its bound key, where
         the full tick would do nothing else (no hooks, no logging, no activity stream)."""
-        key = self._selected_key
-        if (
-            key is not None
-            and self.status is S
-            and Blackboard.activity_stream is None
-            and _pt_logging.level >= _INFO
-        ):
+        if self.status is S and TICK.plain:
+            key = self._selected_key
             selected = self.last_selected
-            if selected and isinstance(selected, str):
+            if key is not None and selected and type(selected) is str:
                 _STORAGE[key] = selected
                 return S
         return super().execute_tick()

@@ -10,7 +10,7 @@ nothing ever asks for the past.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from . import fmath
 from .errors import FrameError
@@ -28,6 +28,15 @@ class StampedTransform:
     transform: Pose2D  # the child's pose in the parent frame
     stamp: float
     static: bool
+    #: sin and cos of the transform's yaw, for composing it: worked out once per value
+    #: (odometry's edge is composed by every lookup until the next odometry)
+    sin: float = field(init=False, repr=False)
+    cos: float = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        yaw = self.transform.yaw
+        # sincos(±0.0) is (the zero, 1.0): most mounts and frames do not turn
+        self.sin, self.cos = (yaw, 1.0) if yaw == 0.0 and type(yaw) is float else fmath.sincos(yaw)
 
 
 class FrameTree:
@@ -126,12 +135,10 @@ class FrameTree:
         node = frame
         edges = self._edges
         edge = edges.get(node)
-        sincos = fmath.sincos
         while edge is not None:
             tf = edge.transform
             e_yaw = tf.yaw
-            # sincos(±0.0) is (the zero, 1.0): most mounts and frames do not turn
-            s, c = (e_yaw, 1.0) if e_yaw == 0.0 and type(e_yaw) is float else sincos(e_yaw)
+            s, c = edge.sin, edge.cos
             x, y, yaw = tf.x + c * x - s * y, tf.y + s * x + c * y, e_yaw + yaw
             if not -math.pi < yaw <= math.pi:
                 yaw = normalize_angle(yaw)  # as Pose2D keeps its yaw

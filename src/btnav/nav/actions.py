@@ -215,7 +215,7 @@ class ActionServer(Generic[G]):
             else:
                 self._begin(pending, now, preempted=None)
         handle = self.current
-        if handle is None or handle.done:
+        if handle is None or handle.status in TERMINAL or not handle.accepted:  # handle.done
             return
         if handle.status is _CANCELING:
             self._run(handle, self.on_cancel, now)
@@ -237,7 +237,7 @@ class ActionServer(Generic[G]):
         hook: Callable[[GoalHandle[G], float], NavResult | None],
         now: float,
     ) -> None:
-        if handle.done:
+        if handle.status in TERMINAL or not handle.accepted:  # handle.done, without a property
             return
         try:
             result = hook(handle, now)
