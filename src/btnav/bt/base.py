@@ -382,7 +382,10 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
     def tick_child(self) -> Status:
         """Tick the decorated child; its new status."""
-        return (self.child_ticks or self.bind_child_ticks())[0]()
+        ticks = self.child_ticks
+        if ticks is None:
+            ticks = self.bind_child_ticks()
+        return ticks[0]()
 
     def update(self) -> Status:  # unused: execute_tick() does the work
         return self.status
@@ -408,7 +411,7 @@ class LeafNode(_BtNode, Behaviour):
     def execute_tick(self) -> Status:
         """py_trees' Behaviour.tick, step for step, as one call (its debug message only
         formatted when py_trees logs at DEBUG: leaves are most of a tree's ticks)."""
-        debug = _pt_logging.level < _INFO
+        debug = not TICK.plain and _pt_logging.level < _INFO
         if debug:
             self.logger.debug(f"{type(self).__name__}.tick()")
         if self.status is not R and self._INITIALISES:

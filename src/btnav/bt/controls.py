@@ -52,7 +52,9 @@ class OrderedControl(ControlNode):
         reactive = self.REACTIVE
         index = 0 if reactive else self.current_child_idx
         count = len(children)
-        ticks = self.child_ticks or self.bind_child_ticks()
+        ticks = self.child_ticks
+        if ticks is None:
+            ticks = self.bind_child_ticks()
         while index < count:
             child = children[index]
             self.current_child = child

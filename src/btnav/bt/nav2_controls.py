@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 from py_trees.blackboard import Blackboard
@@ -33,8 +34,13 @@ class PipelineSequence(ControlNode, _PtSequence):
     def tick_children(self) -> Status:
         # (current_child is set once the tick ends: no child of a btnav tree reads it)
         children = self.children
+        ticks = self.child_ticks
+        if ticks is None:
+            ticks = self.bind_child_ticks()
         last = self.last_child_ticked
-        for i, tick in enumerate(self.child_ticks or self.bind_child_ticks()):
+        i = -1
+        for tick in ticks:
+            i += 1
             status = tick()
             if status is S:  # (most children, most ticks)
                 continue
@@ -78,17 +84,25 @@ class RecoveryNode(ControlNode, _PtSelector):
         self.current_child_idx = 0
         self.retry_count = 0
 
-    def tick_children(self) -> Status:
-        children = self.children
-        if len(children) != 2:
+    def bind_child_ticks(self) -> tuple[Callable[[], Status], ...]:
+        if len(self.children) != 2:  # (checked again whenever the children change)
             raise TreeError(f"RecoveryNode '{self.name}' must only have 2 children")
+        return super().bind_child_ticks()
+
+    def tick_children(self) -> Status:
+        ticks = self.child_ticks
+        if ticks is None:
+            ticks = self.bind_child_ticks()
         # get_input("number_of_retries"), read straight from its key when that holds an int
         key = self._retries_key
         retries = _STORAGE.get(key) if key is not None else None
         if type(retries) is not int or not TICK.plain:
             retries = self.get_input("number_of_retries")
-        ticks = self.child_ticks or self.bind_child_ticks()
-        while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
+        children = self.children
+        while True:
+            index = self.current_child_idx
+            if index >= 2 or not (self.retry_count <= retries):
+                break
             child = children[index]
             self.current_child = child
             status = ticks[index]()

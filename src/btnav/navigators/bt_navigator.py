@@ -100,16 +100,12 @@ class BehaviorTreeNavigator(ActionServer[Any]):
     goal_type: type = NavigateToPoseGoal
     feedback_type: type = NavigateToPoseFeedback
 
-    #: Whether the class keeps this class's `_make_feedback` (then the tick builds the
-    #: message positionally: it runs 100 times a second).
-    _PLAIN_FEEDBACK = True
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        cls._PLAIN_FEEDBACK = cls._make_feedback is BehaviorTreeNavigator._make_feedback
-
     def __init__(self, name: str, params: NavigatorParams | None = None) -> None:
         super().__init__(self.action_name, name)
+        #: Whether the class keeps this class's `_make_feedback` (then the tick builds the
+        #: message positionally: it runs 100 times a second). An instance attribute: a
+        #: class attribute's read is not specialised.
+        self._plain_feedback = type(self)._make_feedback is BehaviorTreeNavigator._make_feedback
         self.params = params if params is not None else self.Params()
         self.bt: Any = None
         self.default_tree = ""
@@ -234,8 +230,9 @@ class BehaviorTreeNavigator(ActionServer[Any]):
 
     def _feedback(self, now: float) -> Any:
         rt = self.bt.runtime
+        global_frame, robot_base_frame = self._pose_frames
         try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
-            pose = rt.frames.lookup(*self._pose_frames)
+            pose = rt.frames.lookup(global_frame, robot_base_frame)
         except Exception:
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
@@ -244,7 +241,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
         recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)  # recovery_count()
         time = now - self.start_time
-        if self._PLAIN_FEEDBACK:  # _make_feedback as it is here, without its keywords
+        if self._plain_feedback:  # _make_feedback as it is here, without its keywords
             return NavigateToPoseFeedback(pose, time, eta, recoveries, remaining)
         return self._make_feedback(
             current_pose=pose,
