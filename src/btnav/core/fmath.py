@@ -64,6 +64,7 @@ from __future__ import annotations
 
 import math
 import struct
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -95,6 +96,8 @@ _SMALL = 24
 _MAGIC = 6755399441055744.0
 _MAGIC_BITS = 0x4338000000000000
 _U64 = np.uint64
+#: Index of a float64's low 32-bit word in its uint32 view (0 on x86-64 and arm64).
+_LOW_WORD = 0 if sys.byteorder == "little" else 1
 
 _F64_BITS = struct.Struct("<d")
 _U64_BITS = struct.Struct("<Q")
@@ -247,35 +250,37 @@ def _apply(
 
 def _quadrant(s: NDArray[Any], c: NDArray[Any], q: NDArray[Any]) -> None:
     """Quadrant q (low bits of `q`, an unsigned array as wide as s and c): (sin, cos) =
-    (s, c), (c, -s), (-s, -c), (-c, s), in place on the bits (exact, keeps -0 and NaN)."""
+    (s, c), (c, -s), (-s, -c), (-c, s), in place on the bits (exact, keeps -0 and NaN).
+    `q` is overwritten."""
     ut = q.dtype.type
     top = ut(q.dtype.itemsize * 8 - 1)
-    sign = ut(1) << top
     sb, cb = s.view(q.dtype), c.view(q.dtype)
-    m = q & ut(1)
-    m *= ut(-1 % (1 << (q.dtype.itemsize * 8)))  # all ones when odd
-    d = sb ^ cb
+    odd = np.left_shift(q, top)  # bit 0 at the sign: cos's extra flip in quadrants 1, 3
+    it = np.dtype(q.dtype.str.replace("u", "i"))
+    m = np.right_shift(odd.view(it), it.type(top)).view(q.dtype)  # all ones when odd
+    d = sb ^ cb  # swapped where odd
     d &= m
     sb ^= d
     cb ^= d
     np.left_shift(q, top - ut(1), out=m)
-    m &= sign
-    sb ^= m  # negative sin in quadrants 2, 3
-    q += ut(1)
-    np.left_shift(q, top - ut(1), out=m)
-    m &= sign
-    cb ^= m  # negative cos in quadrants 1, 2
+    m &= ut(1) << top  # bit 1 at the sign: negative sin and cos in quadrants 2, 3
+    sb ^= m
+    m ^= odd  # negative cos in quadrants 1, 2
+    cb ^= m
 
 
 def _sincos_vec(x: NDArray[Any], s_out: NDArray[Any], c_out: NDArray[Any], f32: bool) -> None:
     with np.errstate(invalid="ignore", over="ignore"):
-        k = np.multiply(x, _TWO_OVER_PI, dtype=np.float64)
-        k += _MAGIC
-        q = k.view(_U64) & _U64(3)  # the quadrant, k mod 4
-        k -= _MAGIC  # round(x 2/pi); +0 for x = -0
         if f32:
             # float32 results: r = (x - k p1) - k (pi/2 - p1), no tail; kernels without
-            # their last term (error < 1e-11 before the rounding to float32).
+            # their last term (error < 1e-11 before the rounding to float32). x is cast to
+            # float64 once (exact; mixed-type ufunc calls are ~3x slower), and the
+            # quadrant is read as uint32 from the low word of k + _MAGIC (little-endian).
+            x = x.astype(np.float64, copy=False)
+            k = np.multiply(x, _TWO_OVER_PI)
+            k += _MAGIC
+            q = k.view(np.uint32)[_LOW_WORD::2] & np.uint32(3)
+            k -= _MAGIC  # round(x 2/pi); +0 for x = -0
             hi = np.multiply(k, -_PIO2_1)
             hi += x
             k *= _PIO2_2F
@@ -287,15 +292,19 @@ def _sincos_vec(x: NDArray[Any], s_out: NDArray[Any], c_out: NDArray[Any], f32: 
                 s *= z
             s *= hi
             s += hi
-            c = z * _C5
+            s_out[...] = s
+            c = np.multiply(z, _C5, out=s)
             for coef in (_C4, _C3, _C2, _C1, -0.5):
                 c += coef
                 c *= z
             c += 1.0
-            s_out[...] = s
             c_out[...] = c
-            _quadrant(s_out, c_out, q.astype(np.uint32) if s_out.dtype == np.float32 else q)
+            _quadrant(s_out, c_out, q)
             return
+        k = np.multiply(x, _TWO_OVER_PI, dtype=np.float64)
+        k += _MAGIC
+        q = k.view(_U64) & _U64(3)  # the quadrant, k mod 4
+        k -= _MAGIC  # round(x 2/pi); +0 for x = -0
         # r = x - k pi/2 as hi + lo: x - k p1 is exact; its difference with k p2 (exact)
         # is the rounded r1 - w and its rounding error (exact, kept as -nlo); then - k p3,
         # and hi, lo renormalised (|lo| <= ulp(hi) / 2: the kernels take lo to first

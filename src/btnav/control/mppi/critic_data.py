@@ -135,6 +135,11 @@ def tracking_unknown(costmap: Costmap2D) -> bool:
     return int(costmap.default_value) == NO_INFORMATION
 
 
+#: Maps up to this many cells are copied with one NO_INFORMATION cell appended, which
+#: points off the map then read (cheaper than masking them after the gather).
+_SENTINEL_CELLS = 1 << 18
+
+
 def cell_costs(costmap: Costmap2D, x: NDArray[Any], y: NDArray[Any]) -> NDArray[np.uint8]:
     """Costs of the cells under world points of any shape, by one fancy-indexing gather.
 
@@ -144,8 +149,19 @@ def cell_costs(costmap: Costmap2D, x: NDArray[Any], y: NDArray[Any]) -> NDArray[
     mx = np.floor((x - np.float32(costmap.origin_x)) * res).astype(np.int32)
     my = np.floor((y - np.float32(costmap.origin_y)) * res).astype(np.int32)
     w, h = costmap.size_x, costmap.size_y
-    inside = (mx >= 0) & (mx < w) & (my >= 0) & (my < h)
+    # 0 <= m < size as one unsigned comparison (a negative int32 is >= 2**31 as uint32)
+    inside = mx.view(np.uint32) < np.uint32(w)
+    inside &= my.view(np.uint32) < np.uint32(h)
     flat = costmap.costs.reshape(-1)
+    n = w * h
+    if n <= _SENTINEL_CELLS:
+        # points off the map index one extra cell holding NO_INFORMATION
+        ext = np.empty(n + 1, flat.dtype)
+        ext[:n] = flat[:n]
+        ext[n] = NO_INFORMATION
+        my *= w
+        my += mx
+        return ext[np.where(inside, my, n)]
     idx = np.where(inside, my * w + mx, 0)
     out = flat[idx]
     out[~inside] = NO_INFORMATION

@@ -49,8 +49,9 @@ class NoiseGenerator:
         )
         self._cursor = 0
 
-    def sample(self) -> NDArray[np.float32]:
-        """Noise for one iteration, (time_steps, channels, batch_size); reused buffer."""
+    def sample(self, out: NDArray[np.float32] | None = None) -> NDArray[np.float32]:
+        """Noise for one iteration, (time_steps, channels, batch_size): in `out` if given,
+        else in a reused buffer."""
         if self.regenerate:
             lo = self._cursor
             hi = min(lo + self.refresh_cols, self.pool_cols)
@@ -61,10 +62,11 @@ class NoiseGenerator:
         b = self.batch_size
         starts = self.rng.integers(0, self.pool_cols - b + 1, self.channels)
         signs = np.where(self.rng.random(b) < 0.5, np.float32(-1.0), np.float32(1.0))
+        out = self.out if out is None else out
         for ch in range(self.channels):
             np.multiply(
                 self.pool[ch, :, starts[ch] : starts[ch] + b],
                 signs * self.stds[ch],
-                out=self.out[:, ch, :],
+                out=out[:, ch, :],
             )
-        return self.out
+        return out

@@ -79,8 +79,12 @@ class Optimizer:
         self.noise = NoiseGenerator(rng, B, T, stds, settings.regenerate_noises)
         self.u = np.zeros((T, C, B), np.float32)  # sampled controls
         self.v = np.zeros((T, C, B), np.float32)  # velocities the rollouts follow
+        self._prod = np.empty((T, C, B), np.float32)  # scratch for the softmax mean
         self._pos = np.zeros((T, 2, B), np.float32)  # x, y
-        self._yaw = np.zeros((T, B), np.float32)
+        # yaw0 then the rollouts' yaws: the headings the steps move along are rows 0..T-1
+        # (one contiguous block, no copy), the yaws rows 1..T
+        self._yaw_rows = np.zeros((T + 1, B), np.float32)
+        self._yaw = self._yaw_rows[1:]
         self._zeros = np.zeros((B, T), np.float32)
         self.reset()
         #: The last iteration's data (rollouts, costs), for tests and visualisation.
@@ -161,7 +165,8 @@ class Optimizer:
         s, u, v = self.s, self.u, self.v
         # Sampled controls: the current sequence plus noise, then the velocity limits,
         # then the acceleration limits from the robot's current speed.
-        np.add(self.noise.sample(), self._sequence_channels(), out=u)
+        self.noise.sample(out=u)
+        np.add(u, self._sequence_channels(), out=u)
         self.model.apply_constraints(u)
         speeds = np.array([speed[0], speed[2], speed[1]][: self.model.channels], np.float32)
         self.model.predict(u, v, speeds)
@@ -214,9 +219,8 @@ class Optimizer:
         yaw[0] += yaw0
         for i in range(1, T):
             np.add(yaw[i - 1], yaw[i], out=yaw[i])
-        heading = np.empty_like(yaw)
+        heading = self._yaw_rows[:-1]
         heading[0] = yaw0
-        heading[1:] = yaw[:-1]
         sin, cos = fmath.sincos(heading)  # not np.sin/np.cos: the same bits on every CPU
         vx = v[:, 0]
         np.multiply(vx, cos, out=pos[:, 0])
@@ -235,20 +239,24 @@ class Optimizer:
         s, cs, u = self.s, self.control_sequence, self.u
         # Control cost: gamma / std^2 * sum_t (noise_t * u_t), noise = sampled - current.
         seq = self._sequence_channels()[:, :, 0]  # (T, C)
+        prod = self._prod  # (T, C, B) scratch for the elementwise products
+        prod_t = prod.reshape(-1)[: u.shape[0] * u.shape[2]].reshape(u.shape[0], u.shape[2])
         if s.gamma != 0.0:
             for ch, std in enumerate(self.stds):
                 if std <= 0.0:
                     continue
                 uc = seq[:, ch]
                 # sum_t (sampled - u) u = u . sampled - u . u, as elementwise products and
-                # sums (a BLAS product's summation order depends on the CPU)
-                cost = fmath.weighted_sum(u[:, ch], uc, axis=0)
+                # sums (a BLAS product's summation order depends on the CPU); the same
+                # products and sum as fmath.weighted_sum(u[:, ch], uc, axis=0)
+                p = np.multiply(u[:, ch], uc[:, None], out=prod_t)
+                cost = p.sum(axis=0)
                 cost -= np.float32(fmath.weighted_sum(uc, uc))
                 costs += np.float32(s.gamma / std**2) * cost
         shifted = costs - costs.min()
         weights = fmath.exp(shifted * np.float32(-1.0 / s.temperature))
         weights /= weights.sum()
-        mean = fmath.weighted_sum(u, weights)  # (T, C)
+        mean = np.multiply(u, weights, out=prod).sum(axis=-1)  # fmath.weighted_sum(u, weights)
         cs[:, 0] = mean[:, 0]
         cs[:, 2] = mean[:, 1]
         if self.holonomic:
@@ -264,20 +272,25 @@ class Optimizer:
     # -- the optimal trajectory -------------------------------------------------------
 
     def optimal_trajectory(
-        self, robot: NDArray[np.float64], speed: tuple[float, float, float]
+        self,
+        robot: NDArray[np.float64],
+        speed: tuple[float, float, float],
+        steps: int | None = None,
     ) -> NDArray[np.float64]:
-        """(T, 3) poses the current control sequence leads to (accelerations limited)."""
-        vx, vy, wz = predict_one(self.model, self.control_sequence, speed)
+        """(T, 3) poses the current control sequence leads to (accelerations limited); only
+        the first `steps` poses if given."""
+        vx, vy, wz = predict_one(self.model, self.control_sequence, speed, steps)
         dt = self.s.model_dt
         x, y, yaw = float(robot[0]), float(robot[1]), float(robot[2])
-        out = np.empty((len(vx), 3))
-        for i in range(len(vx)):
-            s_, c = fmath.sincos(yaw)
-            x += (vx[i] * c - vy[i] * s_) * dt
-            y += (vx[i] * s_ + vy[i] * c) * dt
-            yaw += wz[i] * dt
-            out[i] = x, y, yaw
-        return out
+        sincos = fmath.sincos
+        rows = []
+        for vx_, vy_, wz_ in zip(vx, vy, wz, strict=True):
+            s_, c = sincos(yaw)
+            x += (vx_ * c - vy_ * s_) * dt
+            y += (vx_ * s_ + vy_ * c) * dt
+            yaw += wz_ * dt
+            rows.append((x, y, yaw))
+        return np.array(rows, dtype=np.float64).reshape(-1, 3)
 
     def _trajectory_valid(
         self, robot: NDArray[np.float64], speed: tuple[float, float, float], costmap: Costmap2D
@@ -288,7 +301,7 @@ class Optimizer:
         n = min(self.s.time_steps, math.ceil(self.s.collision_lookahead_time / self.s.model_dt))
         if n <= 0:
             return True
-        traj = self.optimal_trajectory(robot, speed)[:n]
+        traj = self.optimal_trajectory(robot, speed, n)
         if self.s.validator_consider_footprint and self.costmap_ros is not None:
             fp = self.costmap_ros.footprint
             costs = footprint_costs(costmap, fp, traj[:, 0], traj[:, 1], traj[:, 2])

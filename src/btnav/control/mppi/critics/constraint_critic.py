@@ -26,6 +26,15 @@ class ConstraintCritic(CriticFunction):
         if not self.enabled:
             return
         vx = data.vx
+        if (
+            not data.is_holonomic
+            and data.min_turning_r is None
+            and vx.max() <= np.float32(data.vx_max)
+            and vx.min() >= np.float32(data.vx_min)
+        ):
+            # every term is max(<= 0, 0): zeros, and adding zeros leaves the costs as they
+            # are (costs start at +0 and only ever get terms added, so none is -0)
+            return
         over = np.maximum(vx - np.float32(data.vx_max), 0) + np.maximum(
             np.float32(data.vx_min) - vx, 0
         )

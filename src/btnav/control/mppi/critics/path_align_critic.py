@@ -29,7 +29,7 @@ def nearest_by_arc_length(path_s: np.ndarray, s: np.ndarray) -> np.ndarray:
         return np.zeros(s.shape, np.intp)
     ds = length / LOOKUP_BINS
     grid = np.arange(LOOKUP_BINS + 1, dtype=np.float64) * ds
-    hi = np.clip(np.searchsorted(path_s, grid), 1, n - 1)
+    hi = np.minimum(np.maximum(np.searchsorted(path_s, grid), 1), n - 1)  # np.clip: ~20 us more
     lo = hi - 1
     table = np.where(grid - path_s[lo] < path_s[hi] - grid, lo, hi)
     bins = np.minimum((s * np.float32(1.0 / ds) + np.float32(0.5)).astype(np.int32), LOOKUP_BINS)
@@ -93,8 +93,12 @@ class PathAlignCritic(CriticFunction):
             d = np.sqrt(dx * dx + dy * dy + dyaw * dyaw)
         else:
             d = fmath.hypot(dx, dy)
-        ok = valid[idx]
-        count = ok.sum(axis=0)
-        total = np.where(ok, d, np.float32(0.0)).sum(axis=0)
+        if len(d) and valid.all():  # every point counts: the same sums without the masks
+            count = np.full(d.shape[1], len(d), np.intp)
+            total = d.sum(axis=0)
+        else:
+            ok = valid[idx]
+            count = ok.sum(axis=0)
+            total = np.where(ok, d, np.float32(0.0)).sum(axis=0)
         cost = np.where(count > 0, total / np.maximum(count, 1), np.float32(0.0))
         self.add(data, cost.astype(np.float32))
