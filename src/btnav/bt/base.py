@@ -14,9 +14,12 @@ Where py_trees ends and btnav begins:
   nodes of every steady tick of Nav2's trees, the selectors, RecoveryNode and
   FollowPath, read and write those keys themselves where that is exactly what
   py_trees' `get_input`/`_set_output` would do, and call them otherwise).
-  `tick_once()` is `execute_tick()`. Each node class holds its own copy of the tick
-  methods it inherits (`core/per_class.py`), so that CPython specialises every lookup
-  of a tick to one class. py_trees' generator `tick()` still works (for
+  `tick_once()` asks py_trees once whether the tick may take that plain path
+  (`tick_state`), then runs `execute_tick()`. Each node class holds its own copy of the
+  tick methods it inherits (`core/per_class.py`), so that CPython specialises every
+  lookup of a tick to one class, and the built-in controls and decorators call their
+  children through `child_ticks`, the children's `execute_tick`s bound once (a call
+  site that meets many classes is never specialised). py_trees' generator `tick()` still works (for
   `py_trees.trees.BehaviourTree` and its visitors): it runs the same plain tick, then
   yields the nodes it ticked in the order py_trees would.
 

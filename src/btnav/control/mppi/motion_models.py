@@ -10,6 +10,7 @@ time_steps) views.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,6 +42,7 @@ class MotionModel:
     def __init__(self, constraints: ControlConstraints, model_dt: float) -> None:
         self.c = constraints
         self.dt = model_dt
+        self._accel_cache: tuple[Any, tuple[F32, F32], bool] | None = None
 
     @property
     def channels(self) -> int:
@@ -66,7 +68,7 @@ class MotionModel:
         (C, 1) column, with the same results)."""
         c = self.c
         key = (c.ax_max, c.az_max, c.ay_max, c.ax_min, c.ay_min, self.dt, self.channels, batch)
-        cached = getattr(self, "_accel_cache", None)
+        cached = self._accel_cache
         if cached is None or cached[0] != key:
             dt, ch = np.float32(self.dt), self.channels
             up = np.array([c.ax_max, c.az_max, c.ay_max][:ch], np.float32)[:, None] * dt
