@@ -109,8 +109,11 @@ CONTROLLER_PARAMS = {
 }
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])  # bench/doorway.py sweeps 20 seeds
-@pytest.mark.parametrize("controller", sorted(CONTROLLER_PARAMS))
+# Every controller: the mission's seed 0 for DWB and MPPI (~20 s a run), seeds 0-2 for RPP
+# (~3 s); bench/doorway.py sweeps seeds 0-19 per controller (success, no contact, <= 90 s).
+@pytest.mark.parametrize(
+    ("controller", "seed"), [("dwb", 0), ("mppi", 0), ("rpp", 0), ("rpp", 1), ("rpp", 2)]
+)
 def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path, controller, seed):
     # A door slides shut over the x = 4 doorway (y 3-4) about 4 s into the run; the map
     # does not know it, so only the lidar can tell the planner to go round by the top.
