@@ -31,8 +31,14 @@ pytestmark = pytest.mark.slow
 REPO = Path(__file__).resolve().parents[2]
 TOUR = REPO / "missions" / "office_tour.yaml"
 WORLD = REPO / "worlds" / "small_office.yaml"
+#: Nav2's params with Regulated Pure Pursuit in place of MPPI, for the tests below that judge
+#: AMCL, not the controller: RPP drives the same tour on about a quarter of the CPU (MPPI was
+#: ~75% of each run). On seeds 0-2 with RPP: 5x noise 7.2-7.4 cm RMS, global localisation
+#: converged within 2-5 m of travel, its last 10 m within 0.14 m. The untouched tour below
+#: and tests/mission/test_run.py still drive the office tour with MPPI.
+RPP = {"mission.params": str(REPO / "params" / "nav2_params_rpp.yaml")}
 #: The passive AMCL tests navigate on ground truth, so the robot drives the same tour safely.
-GROUND_TRUTH = {"mission.localization": "ground_truth"}
+GROUND_TRUTH = {"mission.localization": "ground_truth", **RPP}
 
 
 def world_with_noise(tmp_path: Path, scale: float) -> Path:
@@ -71,7 +77,8 @@ def test_the_office_tour_keeps_amcl_within_5_cm_and_2_degrees(untouched_tour):
 
 
 def test_five_times_the_odometry_noise_stays_under_10_cm(tmp_path):
-    report = tour(**{"mission.world": str(world_with_noise(tmp_path, 5.0))})
+    # RPP drives (see RPP): the noise, not the controller, is what this run is about
+    report = tour(**RPP, **{"mission.world": str(world_with_noise(tmp_path, 5.0))})
     err = report.localization_error
     assert report.status == "succeeded" and report.collisions == 0
     assert err["rms_xy"] < 0.10

@@ -1,4 +1,11 @@
-"""Missions that map as they go: `localization: slam` and `localization: cartographer`."""
+"""Missions that map as they go: `localization: slam` and `localization: cartographer`.
+
+Nav2 drives them with Regulated Pure Pursuit (params/nav2_params_rpp.yaml: Nav2's params
+with RPP's documented section) rather than MPPI: the mapping, not the controller, is what
+these tests judge, and MPPI was ~60% of their CPU (44 -> 17 s). With RPP they pass on
+seeds 0-2 with wide margins (the mapping runs: 0.4-2.8 cm RMS against 10 cm, every
+occupied cell near a wall, >= 99.3% of the free cells free against 98%).
+"""
 
 from __future__ import annotations
 
@@ -16,13 +23,14 @@ from btnav.slam.metrics import map_quality
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "corridor_loop.yaml"
+PARAMS = REPO / "params" / "nav2_params_rpp.yaml"  # see the module's docstring
 
 
 def mission(tmp_path: Path, **fields) -> Path:
     doc = {
         "mission": "map_lower_corridor",
         "world": str(WORLD),
-        "params": str(REPO / "params" / "nav2_params.yaml"),
+        "params": str(PARAMS),
         "initial_pose": [1.2, 1.2, 0.0],
         "task": {"follow_waypoints": [[6.0, 1.2, 0.0], [11.0, 1.2, 0.0]]},
         "time_limit": 120,
@@ -69,8 +77,8 @@ def test_cartographer_config_without_cartographer_is_a_mistake(tmp_path):
 
 
 def slam_params(folder: Path, **keys) -> Path:
-    """Nav2's params with slam_toolbox's own section (mapper_params_online_async), `keys` set."""
-    doc = yaml.safe_load((REPO / "params" / "nav2_params.yaml").read_text())
+    """PARAMS with slam_toolbox's own section (mapper_params_online_async), `keys` set."""
+    doc = yaml.safe_load(PARAMS.read_text())
     slam = yaml.safe_load((REPO / "params" / "mapper_params_online_async.yaml").read_text())
     slam["slam_toolbox"]["ros__parameters"].update(keys)
     path = folder / "params.yaml"
