@@ -55,7 +55,7 @@ from py_trees.common import Status
 
 from ..core.per_class import copy_hot_methods
 from .ports import BoundPortsMixin, PortInformation, input_port, output_port
-from .tick_state import TICK
+from .tick_state import TICK, plain_now
 
 __all__ = [
     "TIME_EPS",
@@ -187,7 +187,7 @@ class _BtNode(BoundPortsMixin):
     def tick_once(self) -> None:
         """py_trees' `tick_once`, without generators."""
         outer = TICK.plain  # (a node may tick another tree inside its own tick)
-        TICK.plain = TICK.plain_now()
+        TICK.plain = plain_now()
         try:
             self.execute_tick()
         finally:

@@ -22,10 +22,10 @@ class TickState:
     def __init__(self) -> None:
         self.plain = False
 
-    @staticmethod
-    def plain_now() -> bool:
-        """Whether a tick starting now may take the plain path."""
-        return Blackboard.activity_stream is None and _pt_logging.level >= _INFO
-
 
 TICK = TickState()
+
+
+def plain_now() -> bool:
+    """Whether a tick starting now may take the plain path."""
+    return Blackboard.activity_stream is None and _pt_logging.level >= _INFO

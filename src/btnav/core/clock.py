@@ -8,15 +8,15 @@ NS_PER_S = 1_000_000_000
 class SimClock:
     """Sim time kept in integer nanoseconds, so a million 0.01 s steps add up exactly."""
 
-    __slots__ = ("_ns",)
+    __slots__ = ("_ns", "now")
+
+    #: Seconds since the start of the run (`now_ns` / 1e9, worked out once per advance:
+    #: every component reads it, and a slot is a specialised read, a property is not).
+    now: float
 
     def __init__(self, start: float = 0.0) -> None:
         self._ns = round(start * NS_PER_S)
-
-    @property
-    def now(self) -> float:
-        """Seconds since the start of the run."""
-        return self._ns / NS_PER_S
+        self.now = self._ns / NS_PER_S
 
     @property
     def now_ns(self) -> int:
@@ -28,6 +28,7 @@ class SimClock:
         if step < 0:
             raise ValueError("sim time never runs backwards")
         self._ns += step
+        self.now = self._ns / NS_PER_S
         return self.now
 
     def __repr__(self) -> str:
