@@ -8,6 +8,7 @@ from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..core.per_class import original
 from ..plugins import register
 from .base import TIME_EPS, DecoratorNode, R, S
 
@@ -36,18 +37,35 @@ class RateController(DecoratorNode):
     def __init__(self, name: str, child: Behaviour, clock: Any = None, **kwargs: Any):
         super().__init__(name=name, child=child, **kwargs)
         self.clock = clock
+        # the short way of `execute_tick` is exactly the full tick only for this tick
+        self._steady = original(type(self).tick_decorated) is RateController.tick_decorated
 
     def reset_state(self) -> None:
         self.start = 0.0
         self.period = 0.1
         self.first_time = False
 
+    def execute_tick(self) -> Status:
+        """Between the child's ticks a running RateController only says RUNNING again (most
+        of its ticks): that answer at once, where the full tick would change nothing
+        (its status stays RUNNING, no hook runs, the child is not ticked)."""
+        if (
+            self.status is R
+            and self._steady
+            and not self.first_time
+            and self.decorated.status is not R
+        ):
+            clock = self.clock
+            if clock is not None and clock.now - self.start + TIME_EPS < self.period:
+                return R
+        return super().execute_tick()
+
     def tick_decorated(self) -> Status:
         if self.status is _INVALID:  # a new run (BT.CPP: status not active)
             self.period = 1.0 / self.get_input("hz")
             self.start = self.now()
             self.first_time = True
-        clock = self.clock  # self.now(), inline: read every tick
+        clock = self.clock  # self.now(), inline
         elapsed = (float(clock.now) if clock is not None else self.now()) - self.start
         if self.first_time or self.decorated.status is R or elapsed + TIME_EPS >= self.period:
             self.first_time = False
