@@ -179,3 +179,14 @@ def test_mistakes_in_stages_are_named_at_their_lines(tmp_path):
         run_stages(staged(tmp_path, [MAP_STAGE], task="explore"), tmp_path / "out")
     with pytest.raises(BtnavError, match="runs in stages"):
         Mission.load(staged(tmp_path, [MAP_STAGE, TOUR_STAGE]))
+
+
+def test_explore_feedback_carries_the_robots_pose_as_nav2s_navigators_do(tmp_path):
+    nav = Mission.load(write(tmp_path)).navigator()
+    assert nav.explore()
+    for _ in range(20):  # 2 s of exploring
+        nav.is_task_complete()
+    pose = nav.get_feedback().current_pose
+    truth = nav.robot_pose
+    assert abs(pose.x - truth.x) < 0.1 and abs(pose.y - truth.y) < 0.1, (pose, truth)
+    assert nav.get_feedback().navigation_time > 1.0

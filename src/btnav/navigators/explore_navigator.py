@@ -30,9 +30,8 @@ class ExploreNavigator(BehaviorTreeNavigator):
     feedback_type = ExploreFeedback
 
     def configure(self, bt: BtNavigator) -> None:
-        self.bt = bt
-        self.rate = 1000.0 / bt.params.bt_loop_duration
-        self.default_tree = DEFAULT_EXPLORE_TREE
+        super().configure(bt)
+        self.default_tree = DEFAULT_EXPLORE_TREE  # (no bt_navigator key: Nav2 has no Explore)
 
     def _set_goal(self, goal: Any) -> None:
         """No pose: the tree's ComputeFrontiers writes `goal`."""
