@@ -34,7 +34,7 @@ from ..bt.base import R, S
 from ..bt.bundled import find_tree
 from ..bt.nav2_context import RECOVERIES_KEY
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
-from ..core.errors import PluginError
+from ..core.errors import FrameError, PluginError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..core.nav2_msgs import (
@@ -233,7 +233,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         global_frame, robot_base_frame = self._pose_frames
         try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
             pose = rt.frames.lookup(global_frame, robot_base_frame)
-        except Exception:
+        except FrameError:  # (no transform yet: Nav2 reports no pose either)
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
         twist = rt.latest_odom.twist
