@@ -37,7 +37,7 @@ class RateController(DecoratorNode):
     def __init__(self, name: str, child: Behaviour, clock: Any = None, **kwargs: Any):
         super().__init__(name=name, child=child, **kwargs)
         self.clock = clock
-        # the short way of `execute_tick` is exactly the full tick only for this tick
+        # the short way of `execute_tick` is the full tick only with this class's tick
         self._steady = original(type(self).tick_decorated) is RateController.tick_decorated
 
     def reset_state(self) -> None:
