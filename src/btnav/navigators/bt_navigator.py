@@ -233,7 +233,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         global_frame, robot_base_frame = self._pose_frames
         try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
             pose = rt.frames.lookup(global_frame, robot_base_frame)
-        except FrameError:  # (no transform yet: Nav2 reports no pose either)
+        except FrameError:  # (a transform not published yet: a zero pose)
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
         twist = rt.latest_odom.twist
