@@ -19,9 +19,9 @@ Where py_trees ends and btnav begins:
   tick methods it inherits (`core/per_class.py`), so that CPython specialises every
   lookup of a tick to one class, and the built-in controls and decorators call their
   children through `child_ticks`, the children's `execute_tick`s bound once (a call
-  site that meets many classes is never specialised). py_trees' generator `tick()` still works (for
-  `py_trees.trees.BehaviourTree` and its visitors): it runs the same plain tick, then
-  yields the nodes it ticked in the order py_trees would.
+  site that meets many classes is never specialised). py_trees' generator `tick()`
+  still works (for `py_trees.trees.BehaviourTree` and its visitors): it runs the same
+  plain tick, then yields the nodes it ticked in the order py_trees would.
 
 The semantics are BT.CPP's where Nav2's trees rely on them:
 

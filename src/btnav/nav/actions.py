@@ -237,8 +237,8 @@ class ActionServer(Generic[G]):
         hook: Callable[[GoalHandle[G], float], NavResult | None],
         now: float,
     ) -> None:
-        if handle.status in TERMINAL or not handle.accepted:  # handle.done, without a property
-            return
+        """Give a running goal `hook`'s step (both callers pass a goal not done: `update`
+        tests it, `_begin` has just started it)."""
         try:
             result = hook(handle, now)
         except Exception as exc:

@@ -39,7 +39,6 @@ class NoiseGenerator:
         self.pool_cols = max(pool_factor, 1) * batch_size
         self.refresh_cols = max(1, int(self.pool_cols * refresh_fraction))
         self._cursor = 0
-        self.out = np.empty((time_steps, self.channels, batch_size), np.float32)
         self.reset()
 
     def reset(self) -> None:
@@ -49,9 +48,9 @@ class NoiseGenerator:
         )
         self._cursor = 0
 
-    def sample(self, out: NDArray[np.float32] | None = None) -> NDArray[np.float32]:
-        """Noise for one iteration, (time_steps, channels, batch_size): in `out` if given,
-        else in a reused buffer."""
+    def sample(self, out: NDArray[np.float32]) -> NDArray[np.float32]:
+        """Noise for one iteration, (time_steps, channels, batch_size), written into `out`
+        (the optimizer's controls buffer: no buffer of its own)."""
         if self.regenerate:
             lo = self._cursor
             hi = min(lo + self.refresh_cols, self.pool_cols)
@@ -62,7 +61,6 @@ class NoiseGenerator:
         b = self.batch_size
         starts = self.rng.integers(0, self.pool_cols - b + 1, self.channels)
         signs = np.where(self.rng.random(b) < 0.5, np.float32(-1.0), np.float32(1.0))
-        out = self.out if out is None else out
         for ch in range(self.channels):
             np.multiply(
                 self.pool[ch, :, starts[ch] : starts[ch] + b],
