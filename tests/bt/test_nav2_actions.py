@@ -130,6 +130,40 @@ def test_follow_path_sends_a_new_goal_when_the_path_changes():
     root.stop(Status.INVALID)
 
 
+def test_follow_path_sends_a_new_goal_when_an_id_or_the_path_changes_between_feedbacks():
+    """With every port bound (as in Nav2's trees) a tick that brings no feedback takes the
+    short way: it still sees a new controller id or path at once."""
+    _world, rt, _nav = stack = office()
+    first = plan(rt, DOORWAY_GOAL).result.value
+    root = tree(
+        '<FollowPath path="{path}" controller_id="{c}" goal_checker_id="{g}" '
+        'progress_checker_id="{p}" error_code_id="{ec}"/>',
+        stack,
+    )
+    set_bb("c", "FollowPath")
+    set_bb("g", "general_goal_checker")
+    set_bb("p", "progress_checker")
+    set_bb("path", first)
+    run(root, rt, max_ticks=20)
+    node = find(root, "FollowPath")
+    for _ in range(3):  # no step between them: no new feedback, nothing new
+        root.tick_once()
+    assert root.status == R and node.goals_sent == 1
+    set_bb("c", "FollowPath")  # an equal id in a new str: still the same goal
+    root.tick_once()
+    assert node.goals_sent == 1
+    set_bb("g", "stopped_goal_checker")
+    root.tick_once()
+    assert node.goals_sent == 2 and node.handle.goal.goal_checker_id == "stopped_goal_checker"
+    second = plan(rt, Pose2D(6.0, 3.5, 0.0)).result.value
+    set_bb("path", second)
+    root.tick_once()
+    assert node.goals_sent == 3 and node.handle.goal.path is second
+    root.tick_once()
+    assert root.status == R and node.goals_sent == 3
+    root.stop(Status.INVALID)
+
+
 def test_follow_path_with_an_empty_path_fails_with_invalid_path(stack):
     _world, rt, _nav = stack
     root = tree('<FollowPath path="{path}" error_code_id="{ec}" error_msg="{em}"/>', stack)

@@ -38,6 +38,23 @@ def test_planner_selector_uses_the_default_until_a_selection_arrives():
     assert tick() == S and bb("p") == "SmacHybrid"
 
 
+def test_a_selector_writes_its_selection_on_every_tick_as_nav2s_does():
+    """An entry another node overwrote between ticks gets the selection back, and an empty
+    selection is not one: the default stays."""
+    rt = FakeRuntime()
+    tick = ticker(
+        '<ControllerSelector selected_controller="{c}" default_controller="FollowPath" '
+        'topic_name="controller_selector"/>',
+        rt,
+    )
+    assert tick() == S and bb("c") == "FollowPath"
+    set_bb("c", "Overwritten")
+    assert tick() == S and bb("c") == "FollowPath"
+    for callback in rt.subscribers["controller_selector"]:
+        callback(SimpleNamespace(data=""))
+    assert tick() == S and bb("c") == "FollowPath"
+
+
 def test_a_selector_reads_its_topic_when_a_run_starts_as_nav2s_initialize_does():
     rt = FakeRuntime()
     tick = ticker(

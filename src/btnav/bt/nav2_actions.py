@@ -41,6 +41,7 @@ from ..core.nav2_msgs import (
     FollowPathGoal,
     SmoothPathGoal,
 )
+from ..core.per_class import original
 from ..core.suggest import best_match
 from ..nav.actions import GoalHandle, GoalStatus
 from ..plugins import register
@@ -383,23 +384,54 @@ class FollowPath(BtActionNode):
             **{k: self.optional(k) or "" for k in self._IDS},
         )
 
+    def __init__(self, name: str, **kwargs: Any) -> None:
+        super().__init__(name, **kwargs)
+        cls = type(self)
+        #: Whether a tick may take the short way (`execute_tick`): not for a subclass with
+        #: its own `update` or `on_wait_for_result`, whose full tick may do more.
+        self._steady = (
+            original(cls.update) is BtActionNode.update
+            and original(cls.on_wait_for_result) is FollowPath.on_wait_for_result
+        )
+
+    def execute_tick(self) -> Status:
+        """While the goal runs, a tick that brings no new feedback and finds the goal
+        unchanged returns RUNNING and does nothing else, as the full tick would (FollowPath
+        ticks 100 times a second for a whole mission; the controller reports at 20 Hz)."""
+        if self.status is R and self._steady:
+            handle = self.handle
+            if (
+                handle is not None
+                and handle.status is _EXECUTING
+                and handle.accepted
+                and not self.goal_updated
+                and (handle.feedback is None or handle.feedback_stamp == self._feedback_stamp)
+                and self._unchanged()
+            ):
+                return R
+        return super().execute_tick()
+
+    def _unchanged(self) -> bool:
+        """Whether the goal and the four ports' entries are the very objects the goal was
+        last found to match (paths and ids are never changed in place): it still does."""
+        matched = self._matched
+        if matched is None or matched[0] is not self.goal or not TICK.plain:
+            return False
+        get = _STORAGE_GET
+        k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
+        return (
+            get(k_path, _UNSET) is matched[1]
+            and get(k_controller, _UNSET) is matched[2]
+            and get(k_goal_checker, _UNSET) is matched[3]
+            and get(k_progress_checker, _UNSET) is matched[4]
+        )
+
     def on_wait_for_result(self, feedback: Any) -> None:
         goal = self.goal
-        matched = self._matched
-        if matched is not None and matched[0] is goal and TICK.plain:
-            # The goal and the four ports' entries are the very objects the goal was last
-            # found to match (paths and ids are never changed in place): it still does.
-            get = _STORAGE_GET
-            k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
-            if (
-                get(k_path, _UNSET) is matched[1]
-                and get(k_controller, _UNSET) is matched[2]
-                and get(k_goal_checker, _UNSET) is matched[3]
-                and get(k_progress_checker, _UNSET) is matched[4]
-            ):
-                if feedback is not None:
-                    self._set_output("tracking_feedback", feedback)
-                return
+        if self._unchanged():
+            if feedback is not None:
+                self._set_output("tracking_feedback", feedback)
+            return
         changes: dict[str, Any] = {}
         new_path = self.optional("path")
         if new_path is not None and len(new_path) and not same_path(goal.path, new_path):

@@ -36,6 +36,9 @@ class _Selector(Nav2Leaf):
     #: The storage key of the bound `selected_<KIND>` output where a tick may take the
     #: short way (None: the full tick, py_trees writing it when the binding cannot).
     _selected_key: str | None = None
+    #: `_selected_key` while `last_selected` is a selection (a non-empty str) the short way
+    #: may write, else None: worked out when either changes, not on every tick.
+    _steady_key: str | None = None
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -43,24 +46,29 @@ class _Selector(Nav2Leaf):
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         super().__init__(name=name, **kwargs)
-        self.last_selected = ""
         self.topic: str | None = None
+        self._select("")
 
     def setup_ports(self, *args: Any, **kwargs: Any) -> None:
         super().setup_ports(*args, **kwargs)
         slot = self.bound_outputs.get(self.SELECTED)
         steady = self._STEADY and slot is not None and slot.types == (str,)
         self._selected_key = slot.key if steady else None  # type: ignore[union-attr]
+        self._select(self.last_selected)
+
+    def _select(self, selected: Any) -> None:
+        self.last_selected = selected
+        steady = type(selected) is str and selected
+        self._steady_key = self._selected_key if steady else None
 
     def execute_tick(self) -> Status:
         """Once a selection is made a tick of an active selector only writes it again (five
         selectors tick 100 times a second): that write, straight to its bound key, where
         the full tick would do nothing else (no hooks, no logging, no activity stream)."""
         if self.status is S and TICK.plain:
-            key = self._selected_key
-            selected = self.last_selected
-            if key is not None and selected and type(selected) is str:
-                _STORAGE[key] = selected
+            key = self._steady_key
+            if key is not None:
+                _STORAGE[key] = self.last_selected
                 return S
         return super().execute_tick()
 
@@ -85,7 +93,7 @@ class _Selector(Nav2Leaf):
         return inputs, outputs
 
     def _on_select(self, msg: Any) -> None:
-        self.last_selected = str(getattr(msg, "data", msg))
+        self._select(str(getattr(msg, "data", msg)))
 
     def update(self) -> Status:
         if self.status is Status.INVALID and self.runtime is not None:
@@ -99,7 +107,7 @@ class _Selector(Nav2Leaf):
             if not default:
                 self.feedback_message = f"no {self.KIND} selected and no default_{self.KIND}"
                 return Status.FAILURE
-            self.last_selected = default
+            self._select(default)
         self._set_output(self.SELECTED, self.last_selected)
         return Status.SUCCESS
 
