@@ -119,3 +119,21 @@ def test_lookup_is_pose2d_algebra_bit_for_bit_signed_zeros_included():
                     source,
                 )
                 assert tree.lookup(target, source) is got  # remembered until a change
+
+
+def test_a_walk_to_the_root_skips_zero_transforms_bit_for_bit():
+    """Zero transforms of either sign at the start of a walk (base_footprint -> base_link)
+    are skipped: the lookups still give Pose2D's own bits."""
+    zeros = [Pose2D(a, b, c) for a in (0.0, -0.0) for b in (0.0, -0.0) for c in (0.0, -0.0)]
+    for zero in zeros:
+        for odom in (Pose2D(1.0, -2.0, 0.5), Pose2D(-0.0, 0.0, -0.0), zero):
+            tree = FrameTree.rep105()
+            tree.set_transform("map", "odom", Pose2D(-0.0, 3.0, -0.0), stamp=1.0)
+            tree.set_transform("odom", "base_footprint", odom, stamp=1.0)
+            tree.set_static("base_link", "laser", zero)
+            frames = ["map", "odom", "base_footprint", "base_link", "laser"]
+            for target in frames:
+                for source in frames:
+                    got = tree.lookup(target, source)
+                    want = _reference_lookup(tree, target, source)
+                    assert _bits(got) == _bits(want), (zero, odom, target, source)

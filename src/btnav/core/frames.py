@@ -32,11 +32,16 @@ class StampedTransform:
     #: (odometry's edge is composed by every lookup until the next odometry)
     sin: float = field(init=False, repr=False)
     cos: float = field(init=False, repr=False)
+    #: Whether the transform is all zeros (base_footprint -> base_link): from the identity,
+    #: composing it gives the identity, so a walk to the root that starts there skips it
+    zero: bool = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        yaw = self.transform.yaw
+        tf = self.transform
+        yaw = tf.yaw
         # sincos(±0.0) is (the zero, 1.0): most mounts and frames do not turn
         self.sin, self.cos = (yaw, 1.0) if yaw == 0.0 and type(yaw) is float else fmath.sincos(yaw)
+        self.zero = tf.x == 0.0 and tf.y == 0.0 and yaw == 0.0
 
 
 class FrameTree:
@@ -135,6 +140,11 @@ class FrameTree:
         node = frame
         edges = self._edges
         edge = edges.get(node)
+        # from the identity, a zero transform gives the identity: (0.0, 0.0, 0.0) exactly,
+        # whatever the zeros' signs (0.0 + 1.0 * 0.0 - ±0.0 * 0.0 is 0.0)
+        while edge is not None and edge.zero:
+            node = edge.parent
+            edge = edges.get(node)
         while edge is not None:
             tf = edge.transform
             e_yaw = tf.yaw

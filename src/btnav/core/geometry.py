@@ -17,6 +17,10 @@ from numpy.typing import ArrayLike, NDArray
 from . import fmath
 
 TWO_PI = 2.0 * math.pi
+_PI = math.pi
+_NEG_PI = -math.pi
+#: How a frozen dataclass sets its fields.
+_set = object.__setattr__
 
 
 def normalize_angle(a: Any) -> Any:
@@ -52,7 +56,7 @@ def angle_diff(a: Any, b: Any) -> Any:
     return normalize_angle(a - b)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False)
 class Pose2D:
     """A rigid transform in the plane: a robot pose, a sensor mount, a frame offset."""
 
@@ -60,18 +64,17 @@ class Pose2D:
     y: float = 0.0
     yaw: float = 0.0
 
-    def __post_init__(self) -> None:
-        x, y, yaw = self.x, self.y, self.yaw
-        # Plain floats with the yaw in range (the common case, on hot paths) stay as given.
+    def __init__(self, x: float = 0.0, y: float = 0.0, yaw: float = 0.0) -> None:
+        # Plain floats with the yaw in range (the common case, on hot paths) are kept as
+        # given; anything else becomes floats, the yaw wrapped. (The dataclass's own
+        # __init__ and a __post_init__ reading the fields back cost twice as much.)
         if not (
-            type(x) is float
-            and type(y) is float
-            and type(yaw) is float
-            and -math.pi < yaw <= math.pi
+            type(x) is float and type(y) is float and type(yaw) is float and _NEG_PI < yaw <= _PI
         ):
-            object.__setattr__(self, "x", float(x))
-            object.__setattr__(self, "y", float(y))
-            object.__setattr__(self, "yaw", normalize_angle(float(yaw)))
+            x, y, yaw = float(x), float(y), normalize_angle(float(yaw))
+        _set(self, "x", x)
+        _set(self, "y", y)
+        _set(self, "yaw", yaw)
 
     @classmethod
     def from_array(cls, a: ArrayLike) -> Pose2D:
