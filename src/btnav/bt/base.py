@@ -269,6 +269,9 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         if isinstance(self, py_trees.composites.Parallel):
             kwargs["policy"] = py_trees.common.ParallelPolicy.SuccessOnAll()
         self.child_ticks = None
+        self.status = _INVALID  # (first: what a tick reads shares a cache line)
+        self.skipped = False
+        self.current_child = None
         super().__init__(name=name, children=children, **kwargs)
         self.reset_state()
 
@@ -366,6 +369,8 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
     def __init__(self, name: str, child: Behaviour, **kwargs: Any):
         adopt(child)
         self.child_ticks = None
+        self.status = _INVALID  # (first: what a tick reads shares a cache line)
+        self.skipped = False
         super().__init__(name=name, child=child, **kwargs)
         self.reset_state()
 
@@ -410,6 +415,10 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
 class LeafNode(_BtNode, Behaviour):
     """A leaf (action or condition) with ports; subclasses write `update()`."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.status = _INVALID  # (first: what a tick reads shares a cache line)
+        super().__init__(*args, **kwargs)
 
     def execute_tick(self) -> Status:
         """py_trees' Behaviour.tick, step for step, as one call (its debug message only

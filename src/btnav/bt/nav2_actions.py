@@ -78,12 +78,14 @@ class BtActionNode(Nav2Leaf):
     IS_RECOVERY: ClassVar[bool] = False
 
     def __init__(self, name: str, **kwargs: Any) -> None:
-        super().__init__(name=name, **kwargs)
+        self.status = Status.INVALID
         self.handle: GoalHandle[Any] | None = None
         self.goal: Any = None
         self.goal_updated = False
-        self.goals_sent = 0
         self._feedback_stamp: float | None = None
+        self._matched = None
+        super().__init__(name=name, **kwargs)
+        self.goals_sent = 0
 
     @property
     def codes(self) -> type[NavErrorCode]:
@@ -385,8 +387,9 @@ class FollowPath(BtActionNode):
         )
 
     def __init__(self, name: str, **kwargs: Any) -> None:
-        super().__init__(name, **kwargs)
         cls = type(self)
+        self._steady = False
+        super().__init__(name, **kwargs)
         #: Whether a tick may take the short way (`execute_tick`): not for a subclass with
         #: its own `update` or `on_wait_for_result`, whose full tick may do more.
         self._steady = (

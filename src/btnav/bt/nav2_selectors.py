@@ -45,9 +45,10 @@ class _Selector(Nav2Leaf):
         cls._STEADY = cls._HOOKLESS and original(cls.update) is _Selector.update
 
     def __init__(self, name: str, **kwargs: Any) -> None:
+        self.status = Status.INVALID
+        self._select("")
         super().__init__(name=name, **kwargs)
         self.topic: str | None = None
-        self._select("")
 
     def setup_ports(self, *args: Any, **kwargs: Any) -> None:
         super().setup_ports(*args, **kwargs)
