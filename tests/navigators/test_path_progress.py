@@ -39,6 +39,15 @@ def grid_path(rng: np.random.Generator) -> np.ndarray:
     return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
 
 
+def cell_centre_path(rng: np.random.Generator) -> np.ndarray:
+    """NavFn's path on a 5 cm grid: cell centres along axis-aligned legs, so a window a
+    multiple of 5 cm ends in a tie within rounding from almost every start."""
+    moves = rng.choice([[1, 0], [0, 1], [-1, 0], [0, -1]], size=int(rng.integers(3, 12)))
+    cells = np.cumsum(np.repeat(moves, rng.integers(5, 60, len(moves)), axis=0), axis=0)
+    xy = rng.uniform(-3.0, 3.0, 2) + (cells + 0.5) * 0.05
+    return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
+
+
 def wavy_path(rng: np.random.Generator) -> np.ndarray:
     t = np.sort(rng.uniform(0, 10, rng.integers(5, 300)))
     xy = np.stack([t, np.sin(t * rng.uniform(0.5, 3))], -1)
@@ -75,7 +84,7 @@ def test_a_new_path_starts_from_its_first_pose():
     assert progress.closest == 40  # the window from pose 0 ends 2 m along
 
 
-@pytest.mark.parametrize("make", [grid_path, wavy_path])
+@pytest.mark.parametrize("make", [grid_path, cell_centre_path, wavy_path])
 def test_a_robot_moving_along_the_path_is_searched_as_nav2_does(make):
     """Small steps near the path (the searches a scan's certificate answers), now and then
     exactly on a pose or a midpoint between two (ties), now and then a jump; half of them
@@ -195,3 +204,24 @@ def test_a_changed_search_window_holds_from_the_next_path():
     path = Path(0.0, straight.copy())
     assert progress.remaining(path, 2.9, 0.0) == nav2_remaining(straight, 0, 0.5, 2.9, 0.0)[1]
     assert progress.closest == 10  # the next path's window from pose 0 ends 0.5 m along
+
+
+@pytest.mark.parametrize("make", [grid_path, cell_centre_path, wavy_path])
+def test_every_window_ends_where_nav2s_cumsum_and_searchsorted_end_it(make):
+    """The window ends of many starts at once (ties within rounding resolved together,
+    one sequential sum per start) are Nav2's, start by start: grid paths tie most."""
+    rng = np.random.default_rng(13)
+    for _ in range(200):
+        poses = make(rng)
+        window = float(rng.choice([0.5, 2.0, 0.025 * rng.integers(1, 40), 1e9]))
+        progress = PathProgress(lambda w=window: w)
+        progress.remaining(Path(0.0, poses), float(poses[0, 0]), float(poses[0, 1]))
+        seg = fmath.hypot(*np.diff(poses[:, :2], axis=0).T)
+        count = int(rng.integers(1, 12))
+        if rng.random() < 0.5:  # as the search asks for them: consecutive poses
+            first = int(rng.integers(len(poses)))
+            starts = list(range(first, min(first + count, len(poses))))
+        else:
+            starts = [int(i) for i in rng.permutation(len(poses))[:count]]
+        want = [i + 1 + int(np.searchsorted(np.cumsum(seg[i:]), window)) for i in starts]
+        assert progress._windows(starts) == want

@@ -31,10 +31,11 @@ from __future__ import annotations
 import math
 from bisect import bisect_left
 from collections.abc import Callable
-from itertools import accumulate, islice
+from itertools import accumulate
 from typing import Any
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
 from ..core import fmath
 from ..core.messages import Path
@@ -159,12 +160,13 @@ class PathProgress:
         """The window's end (one past it) and the length left for poses `first` to
         `first + _AHEAD_POSES`: the robot moves on along the path, and these calls, cold
         one at a time between the simulation's steps, run warm back to back."""
-        window = self._window_length
         n, seg = self._n, self._seg
         stops, lengths = self._stop, self._length_from
-        for i in range(first, min(first + _AHEAD_POSES, n)):
-            if i not in stops:
-                stops[i] = min(self._window(i, window) + 1, n)
+        poses = range(first, min(first + _AHEAD_POSES, n))
+        starts = [i for i in poses if i not in stops]
+        for i, end in zip(starts, self._windows(starts), strict=True):
+            stops[i] = min(end + 1, n)
+        for i in poses:
             if i not in lengths:  # float(seg[i:].sum()), without sum's Python wrapper
                 lengths[i] = float(_add_reduce(seg[i:]))
 
@@ -210,26 +212,45 @@ class PathProgress:
         self._certificate = (start, last, x, y, _RADIUS * _RADIUS, limit * limit, tuple(near))
         return best
 
-    def _window(self, start: int, search_window: float) -> int:
-        """The last pose within `search_window` along the path from `start`, as Nav2's
+    def _windows(self, starts: list[int]) -> list[int]:
+        """The last pose within `search_window` along the path from each start, as Nav2's
         `searchsorted(cumsum(seg[start:]), search_window)` finds it: from the running sums
         kept per path where they leave no doubt, else from cumsum's own sequential sums."""
+        search_window = self._window_length
         if not len(self._seg):
-            return start + 1
-        if self._exact and math.isfinite(search_window):
-            arc, slack = self._arc, self._slack
+            return [start + 1 for start in starts]
+        if not (self._exact and math.isfinite(search_window)):
+            seg = self._seg
+            return [
+                start + 1 + int(np.searchsorted(np.cumsum(seg[start:]), search_window))
+                for start in starts
+            ]
+        arc, slack = self._arc, self._slack
+        ends: list[int] = []
+        ties: list[tuple[int, int, int]] = []  # (index in ends, start, hi)
+        for start in starts:
             origin = arc[start] + search_window
             # arc[k] - arc[start] and cumsum's sum up to k differ by less than the slack
             lo = bisect_left(arc, origin - slack, start + 1)
             hi = bisect_left(arc, origin + slack, start + 1)
-            if lo == hi:
-                return lo
-            # a tie within rounding (a path on a grid, a window a multiple of its step):
-            # cumsum adds in order, as accumulate does on Python floats
-            along = list(accumulate(islice(self._segs, start, hi)))
-            return start + 1 + bisect_left(along, search_window)
-        along = np.cumsum(self._seg[start:])
-        return start + 1 + int(np.searchsorted(along, search_window))
+            if lo != hi:  # a tie within rounding (a path on a grid: most windows)
+                ties.append((len(ends), start, hi))
+            ends.append(lo)
+        if len(ties) == 1:  # cumsum adds in order, as accumulate does on Python floats
+            k, start, hi = ties[0]
+            along = list(accumulate(self._segs[start:hi]))
+            ends[k] = start + 1 + bisect_left(along, search_window)
+        elif ties:
+            # the sums of all the tied windows in one cumsum, a row per start (rows padded
+            # with inf past the path, which no window reaches); each row's sums to `hi`
+            # cross the window, so counting the sums below it is bisect's answer
+            width = max(hi - start for _, start, hi in ties)
+            padded = np.concatenate([self._seg, np.full(width, np.inf)])
+            rows = sliding_window_view(padded, width)[[start for _, start, _ in ties]]
+            below = (np.cumsum(rows, axis=1) < search_window).sum(axis=1).tolist()
+            for (k, start, _), count in zip(ties, below, strict=True):
+                ends[k] = start + 1 + count
+        return ends
 
     def _full_scan(self, start: int, stop: int, x: float, y: float) -> int:
         """numpy's argmin over the window's squared distances (NaNs as numpy treats them)."""
