@@ -35,7 +35,6 @@ from itertools import accumulate
 from typing import Any
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from ..core import fmath
 from ..core.messages import Path
@@ -246,7 +245,8 @@ class PathProgress:
             # cross the window, so counting the sums below it is bisect's answer
             width = max(hi - start for _, start, hi in ties)
             padded = np.concatenate([self._seg, np.full(width, np.inf)])
-            rows = sliding_window_view(padded, width)[[start for _, start, _ in ties]]
+            first = np.array([start for _, start, _ in ties])
+            rows = padded[first[:, None] + np.arange(width)]
             below = (np.cumsum(rows, axis=1) < search_window).sum(axis=1).tolist()
             for (k, start, _), count in zip(ties, below, strict=True):
                 ends[k] = start + 1 + count
