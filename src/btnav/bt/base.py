@@ -417,7 +417,9 @@ class LeafNode(_BtNode, Behaviour):
     """A leaf (action or condition) with ports; subclasses write `update()`."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
-        self.status = _INVALID  # (first: what a tick reads shares a cache line)
+        # An instance's attribute values are stored in the order they were first set on
+        # its class: what a tick reads, set before py_trees' own, shares a cache line.
+        self.status = _INVALID
         super().__init__(*args, **kwargs)
 
     def execute_tick(self) -> Status:

@@ -78,12 +78,12 @@ class BtActionNode(Nav2Leaf):
     IS_RECOVERY: ClassVar[bool] = False
 
     def __init__(self, name: str, **kwargs: Any) -> None:
+        # what a tick reads first, before py_trees' attributes (LeafNode's note)
         self.status = Status.INVALID
         self.handle: GoalHandle[Any] | None = None
         self.goal: Any = None
         self.goal_updated = False
         self._feedback_stamp: float | None = None
-        self._matched = None
         super().__init__(name=name, **kwargs)
         self.goals_sent = 0
 
@@ -388,14 +388,14 @@ class FollowPath(BtActionNode):
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         cls = type(self)
-        self._steady = False
-        super().__init__(name, **kwargs)
         #: Whether a tick may take the short way (`execute_tick`): not for a subclass with
         #: its own `update` or `on_wait_for_result`, whose full tick may do more.
         self._steady = (
             original(cls.update) is BtActionNode.update
             and original(cls.on_wait_for_result) is FollowPath.on_wait_for_result
         )
+        self._matched = None
+        super().__init__(name, **kwargs)
 
     def execute_tick(self) -> Status:
         """While the goal runs, a tick that brings no new feedback and finds the goal

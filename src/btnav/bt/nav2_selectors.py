@@ -45,6 +45,7 @@ class _Selector(Nav2Leaf):
         cls._STEADY = cls._HOOKLESS and original(cls.update) is _Selector.update
 
     def __init__(self, name: str, **kwargs: Any) -> None:
+        # what a tick reads first, before py_trees' attributes (LeafNode's note)
         self.status = Status.INVALID
         self._select("")
         super().__init__(name=name, **kwargs)
