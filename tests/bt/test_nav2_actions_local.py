@@ -3,6 +3,7 @@ and ValidatePath on the office's global costmap."""
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 from typing import Any
 
@@ -94,6 +95,46 @@ def test_truncate_path_local_keeps_the_window_round_the_robot():
     assert tick() == S
     out = bb("out").poses
     assert out[0, 0] == 3.0 and out[-1, 0] == 10.0
+
+
+def first_after_integrated_distance(poses: np.ndarray, begin: int, distance: float) -> int:
+    """nav2_util's loop, pose by pose (the segment lengths as btnav's fmath measures them)."""
+    length = 0.0
+    for i in range(begin, len(poses) - 1):
+        dx, dy = poses[i + 1, 0] - poses[i, 0], poses[i + 1, 1] - poses[i, 1]
+        length += math.sqrt(dx * dx + dy * dy)
+        if length > distance:
+            return i + 1
+    return len(poses)
+
+
+def test_truncate_path_local_cuts_where_nav2_util_integrates_to():
+    """A NavFn-like path of cell centres (windows that tie within rounding), the robot
+    anywhere along it: the pose nearest the robot, then Nav2's integrated distances
+    forward and back, pose for pose."""
+    rng = np.random.default_rng(2)
+    for _ in range(40):
+        cells = np.cumsum(rng.choice([[1, 0], [0, 1], [1, 1]], size=int(rng.integers(20, 120))), 0)
+        poses = np.zeros((len(cells), 3))
+        poses[:, :2] = rng.uniform(-2.0, 2.0, 2) + (cells + 0.5) * 0.05
+        k = int(rng.integers(len(poses)))
+        robot = Pose2D(*(poses[k, :2] + rng.normal(0.0, 0.02, 2)), 0.0)
+        forward = float(rng.choice([0.5, 1.0, 2.0, 0.05 * rng.integers(1, 30), -1.0]))
+        backward = float(rng.choice([0.0, 0.25, 1.0, 0.05 * rng.integers(1, 30)]))
+        tick = ticker(
+            '<TruncatePathLocal input_path="{path}" output_path="{out}" '
+            f'distance_forward="{forward}" distance_backward="{backward}"/>',
+            FakeRuntime(robot),
+        )
+        set_bb("path", Path(0.0, poses))
+        assert tick() == S
+        d2 = (poses[:, 0] - robot.x) ** 2 + (poses[:, 1] - robot.y) ** 2
+        current = int(np.argmin(d2))
+        end = first_after_integrated_distance(poses, current, math.inf if forward < 0 else forward)
+        back = (
+            current + 1 - first_after_integrated_distance(poses[: current + 1][::-1], 0, backward)
+        )
+        assert np.array_equal(bb("out").poses, poses[back:end])
 
 
 def test_truncate_path_drops_the_end_and_faces_the_goal():

@@ -17,6 +17,7 @@ import numpy as np
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..control.path_handler import integrated_index
 from ..core import fmath
 from ..core.error_codes import (
     ComputePathThroughPosesError,
@@ -32,7 +33,6 @@ from .base import F, S, input_port
 from .nav2_context import (
     Nav2Leaf,
     PoseLike,
-    integrated_index,
     length_from,
     pose_of,
     same_goal,
@@ -196,14 +196,15 @@ class IsGoalNearby(Nav2Leaf):
         if robot is None:
             return F
         poses = np.asarray(self.path.poses, float)
+        seg = self.path.segment_lengths
         begin = self.search_begin
-        stop = integrated_index(poses, begin, search) if pruning else len(poses)
+        stop = integrated_index(poses, begin, search, seg) if pruning else len(poses)
         window = poses[begin:stop]
         closest = begin + int(
             np.argmin(fmath.hypot(window[:, 0] - robot.x, window[:, 1] - robot.y))
         )
         self.search_begin = closest
-        return _status(length_from(poses, closest) < threshold)
+        return _status(length_from(seg, closest) < threshold)
 
 
 @register("bt_node", "InitialPoseReceived")

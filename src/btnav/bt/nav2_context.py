@@ -27,7 +27,6 @@ import numpy as np
 import py_trees
 from py_trees.common import Status
 
-from ..core import fmath
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
@@ -110,22 +109,11 @@ def pose_of(value: PoseLike | Sequence[float]) -> tuple[Pose2D, str | None]:
     return Pose2D(*value), None
 
 
-def integrated_index(poses: np.ndarray, start: int, distance: float) -> int:
-    """nav2_util's `first_after_integrated_distance`: the first index after `start` where
-    the length along `poses` from `start` exceeds `distance` (len(poses) if never)."""
-    n = len(poses)
-    if start >= n - 1 or not math.isfinite(distance):
-        return n
-    seg = fmath.hypot(*np.diff(poses[start:, :2], axis=0).T)
-    after = np.flatnonzero(np.cumsum(seg) > distance)
-    return int(start + after[0] + 1) if after.size else n
-
-
-def length_from(poses: np.ndarray, start: int) -> float:
-    """nav2_util's `calculate_path_length(path, start)`."""
-    if start >= len(poses) - 1:
+def length_from(seg: np.ndarray, start: int) -> float:
+    """nav2_util's `calculate_path_length(path, start)` on the path's segment lengths."""
+    if start >= len(seg):
         return 0.0
-    return float(fmath.hypot(*np.diff(poses[start:, :2], axis=0).T).sum())
+    return float(seg[start:].sum())
 
 
 class Nav2Leaf(LeafNode):

@@ -11,6 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 from py_trees.common import Status
 
+from ..control.path_handler import integrated_index
 from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff
 from ..core.messages import Path, PoseStamped
@@ -20,7 +21,6 @@ from .nav2_context import (
     INFINITY,
     Nav2Leaf,
     PoseLike,
-    integrated_index,
     pose_of,
     same_path,
 )
@@ -112,8 +112,9 @@ class TruncatePathLocal(Nav2Leaf):
                 self._set_output("output_path", path)
             return S
         poses = np.asarray(path.poses, float)
+        seg = path.segment_lengths
         begin = self.search_begin
-        stop = integrated_index(poses, begin, search) if pruning else len(poses)
+        stop = integrated_index(poses, begin, search, seg) if pruning else len(poses)
         window = poses[begin:stop]
         d2 = (window[:, 0] - pose.x) ** 2 + (window[:, 1] - pose.y) ** 2
         if weight:
@@ -121,9 +122,9 @@ class TruncatePathLocal(Nav2Leaf):
         current = begin + int(np.argmin(d2))
         if pruning:
             self.search_begin = current
-        end = integrated_index(poses, current, forward)
-        rev = poses[: current + 1][::-1]
-        start = current + 1 - integrated_index(rev, 0, backward)
+        end = integrated_index(poses, current, forward, seg)
+        back = poses[: current + 1][::-1]  # from the current pose back: its segments reversed
+        start = current + 1 - integrated_index(back, 0, backward, seg[:current][::-1])
         out = Path(path.stamp, poses[start:end].copy(), path.frame_id)
         self._set_output("output_path", out)
         return S

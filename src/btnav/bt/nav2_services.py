@@ -22,6 +22,7 @@ from py_trees.common import Status
 from py_trees.ports import PortInformation
 
 from ..behaviors.collision import CollisionChecker
+from ..control.path_handler import integrated_index
 from ..core import fmath
 from ..core.errors import UnknownNameError
 from ..core.geometry import Pose2D
@@ -30,7 +31,7 @@ from ..core.suggest import best_match
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ..plugins import register
 from .base import F, S, input_port
-from .nav2_context import Nav2Leaf, PoseLike, increment_recovery_count, integrated_index
+from .nav2_context import Nav2Leaf, PoseLike, increment_recovery_count
 
 SERVICE_INPUTS: dict[str, PortInformation] = {
     "service_name": input_port(str, "Service name"),
@@ -222,7 +223,7 @@ class ValidatePath(BtServiceNode):
         end = len(poses)
         lookahead = self.get_input("max_lookahead_distance")
         if lookahead > 0.0:
-            end = integrated_index(poses, start, lookahead)
+            end = integrated_index(poses, start, lookahead, path.segment_lengths)
         check = poses[start:end]
         footprint_text = self.get_input("footprint")
         use_radius = footprint_text == "" and len(costmap_ros.params.footprint) == 0

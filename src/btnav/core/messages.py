@@ -8,6 +8,7 @@ navigation stack, which never looks at the world itself.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -104,6 +105,13 @@ class Path:
             return 0.0
         d = self.poses[1:, :2] - self.poses[:-1, :2]  # np.diff, without its overhead
         return float(fmath.hypot(d[:, 0], d[:, 1]).sum())
+
+    @cached_property
+    def segment_lengths(self) -> NDArray[np.float64]:
+        """Each segment's length in float64, worked out once per path for the tree's nodes
+        that measure along it (a path is never changed in place: a new plan is a new Path)."""
+        xy = np.asarray(self.poses, float)[:, :2]
+        return fmath.hypot(*np.diff(xy, axis=0).T)  # type: ignore[no-any-return]
 
 
 @dataclass
