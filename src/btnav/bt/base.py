@@ -154,6 +154,13 @@ class _BtNode(BoundPortsMixin):
     #: even one undone within the same tick (a tick log sets it; None: nobody listens).
     status_listener: Callable[[Any, Status, Status], None] | None = None
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        # An instance's attribute values are stored in the order they were first set on
+        # its class: what a tick reads, set before py_trees' own, shares a cache line
+        # (subclasses set their own tick state before calling this).
+        self.status = _INVALID
+        super().__init__(*args, **kwargs)
+
     def __init_subclass__(cls, *, register: bool = False, **kwargs: Any) -> None:
         # btnav's registry (the bt_node plugin kind) is the one that names node types;
         # py_trees' global auto-registry is left to the user's own classes.
@@ -269,7 +276,6 @@ class ControlNode(_BtNode, py_trees.composites.Composite):
         if isinstance(self, py_trees.composites.Parallel):
             kwargs["policy"] = py_trees.common.ParallelPolicy.SuccessOnAll()
         self.child_ticks = None
-        self.status = _INVALID  # (first: what a tick reads shares a cache line)
         self.skipped = False
         self.current_child = None
         super().__init__(name=name, children=children, **kwargs)
@@ -369,7 +375,6 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
     def __init__(self, name: str, child: Behaviour, **kwargs: Any):
         adopt(child)
         self.child_ticks = None
-        self.status = _INVALID  # (first: what a tick reads shares a cache line)
         self.skipped = False
         super().__init__(name=name, child=child, **kwargs)
         self.reset_state()
@@ -415,12 +420,6 @@ class DecoratorNode(_BtNode, py_trees.decorators.Decorator):
 
 class LeafNode(_BtNode, Behaviour):
     """A leaf (action or condition) with ports; subclasses write `update()`."""
-
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        # An instance's attribute values are stored in the order they were first set on
-        # its class: what a tick reads, set before py_trees' own, shares a cache line.
-        self.status = _INVALID
-        super().__init__(*args, **kwargs)
 
     def execute_tick(self) -> Status:
         """py_trees' Behaviour.tick, step for step, as one call (its debug message only

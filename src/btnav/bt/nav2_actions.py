@@ -78,8 +78,7 @@ class BtActionNode(Nav2Leaf):
     IS_RECOVERY: ClassVar[bool] = False
 
     def __init__(self, name: str, **kwargs: Any) -> None:
-        # what a tick reads first, before py_trees' attributes (LeafNode's note)
-        self.status = Status.INVALID
+        # (tick state first: _BtNode's note)
         self.handle: GoalHandle[Any] | None = None
         self.goal: Any = None
         self.goal_updated = False

@@ -99,10 +99,7 @@ class RecoveryNode(ControlNode, _PtSelector):
         if type(retries) is not int or not TICK.plain:
             retries = self.get_input("number_of_retries")
         children = self.children
-        while True:
-            index = self.current_child_idx
-            if index >= 2 or not (self.retry_count <= retries):
-                break
+        while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
             child = children[index]
             self.current_child = child
             status = ticks[index]()

@@ -45,9 +45,7 @@ class _Selector(Nav2Leaf):
         cls._STEADY = cls._HOOKLESS and original(cls.update) is _Selector.update
 
     def __init__(self, name: str, **kwargs: Any) -> None:
-        # what a tick reads first, before py_trees' attributes (LeafNode's note)
-        self.status = Status.INVALID
-        self._select("")
+        self._select("")  # (tick state first: _BtNode's note)
         super().__init__(name=name, **kwargs)
         self.topic: str | None = None
 
