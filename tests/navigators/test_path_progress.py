@@ -1,8 +1,9 @@
 """bt_navigator's distance_remaining (navigators/path_progress.py) against Nav2's plain
 computation: the first closest pose within `search_window` metres along the path of
 the last closest one (numpy's argmin of squared distances, cumsum + searchsorted for
-the window), then the length left from it. The fast scan must find the same index and
-the same length, ties and grid paths included."""
+the window), then the length left from it (`calculate_path_length`'s loop). The fast
+scan must find the same index, ties and grid paths included, and the same length up to
+rounding (btnav sums each path once, from its end)."""
 
 from __future__ import annotations
 
@@ -20,14 +21,19 @@ def nav2_remaining(poses: np.ndarray, start: int, window: float, x: float, y: fl
     stop = min(end + 1, len(poses))
     d = (poses[start:stop, 0] - x) ** 2 + (poses[start:stop, 1] - y) ** 2
     closest = start + int(d.argmin())
-    return closest, float(seg[closest:].sum())
+    length = 0.0
+    for s in seg[closest:].tolist():  # nav2_util::calculate_path_length
+        length += s
+    return closest, length
 
 
 def searched_as_nav2(progress: PathProgress, path: Path, start: int, window: float, x, y) -> int:
     """One search from `start`: the closest pose and length left are Nav2's; returns the
     closest pose, where the next search starts."""
     got = progress.remaining(path, float(x), float(y))
-    assert (progress.closest, got) == nav2_remaining(path.poses, start, window, x, y)
+    closest, length = nav2_remaining(path.poses, start, window, x, y)
+    assert progress.closest == closest
+    assert got == pytest.approx(length, rel=1e-13, abs=1e-13)
     return progress.closest
 
 
@@ -202,7 +208,8 @@ def test_a_changed_search_window_holds_from_the_next_path():
     progress.remaining(first, 2.9, 0.0)
     assert progress.closest == 58  # the path's windows all 2 m long, as when it came
     path = Path(0.0, straight.copy())
-    assert progress.remaining(path, 2.9, 0.0) == nav2_remaining(straight, 0, 0.5, 2.9, 0.0)[1]
+    want = nav2_remaining(straight, 0, 0.5, 2.9, 0.0)[1]
+    assert progress.remaining(path, 2.9, 0.0) == pytest.approx(want, rel=1e-13)
     assert progress.closest == 10  # the next path's window from pose 0 ends 0.5 m along
 
 
@@ -224,4 +231,4 @@ def test_every_window_ends_where_nav2s_cumsum_and_searchsorted_end_it(make):
         else:
             starts = [int(i) for i in rng.permutation(len(poses))[:count]]
         want = [i + 1 + int(np.searchsorted(np.cumsum(seg[i:]), window)) for i in starts]
-        assert progress._windows(starts) == want
+        assert progress._windows(np.array(starts)) == want
