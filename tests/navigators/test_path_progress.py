@@ -135,11 +135,28 @@ def hairpin_path(rng: np.random.Generator) -> np.ndarray:
     return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
 
 
-def test_a_robot_between_two_legs_of_a_hairpin_is_searched_as_nav2_does():
+def zigzag_path(rng: np.random.Generator) -> np.ndarray:
+    """Three to six legs to and fro a few centimetres apart, as `hairpin_path`: from a
+    pose on one leg, the poses of the legs after the next lie far along the path but
+    near the robot, past the end of a window that starts on the next leg."""
+    step, gap = rng.uniform(0.01, 0.12), rng.uniform(0.02, 0.06)
+    out = np.arange(0.0, rng.uniform(0.1, 0.6), step)
+    legs = [
+        np.stack([out if k % 2 == 0 else out[::-1], k * gap + 0 * out], -1)
+        for k in range(int(rng.integers(3, 7)))
+    ]
+    xy = np.concatenate(legs)
+    return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
+
+
+@pytest.mark.parametrize("make", [hairpin_path, zigzag_path])
+def test_a_robot_between_the_legs_of_a_folded_path_is_searched_as_nav2_does(make):
     rng = np.random.default_rng(3)
     for _ in range(200):
-        poses = hairpin_path(rng)
-        progress = PathProgress(lambda: 2.0)
+        poses = make(rng)
+        # a window of a leg or two, or of every leg
+        window = float(rng.choice([0.25, 0.5, 2.0]))
+        progress = PathProgress(lambda w=window: w)
         path = Path(0.0, poses)
         start = 0
         x, y = float(poses[0, 0]), 0.0
@@ -147,7 +164,10 @@ def test_a_robot_between_two_legs_of_a_hairpin_is_searched_as_nav2_does():
             # steps of a few cm in any direction, drifting along and across the legs
             x += float(rng.normal(0.008, 0.012))
             y = float(np.clip(y + rng.normal(0, 0.015), -0.05, 0.15))
-            start = searched_as_nav2(progress, path, start, 2.0, x, y)
+            start = searched_as_nav2(progress, path, start, window, x, y)
+            # the same spot again, from the pose just found: its window reaches further,
+            # perhaps to the poses of a leg further on near the robot
+            start = searched_as_nav2(progress, path, start, window, x, y)
 
 
 def test_a_near_pose_left_behind_is_not_taken_for_the_closest():

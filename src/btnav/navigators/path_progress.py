@@ -25,7 +25,9 @@ where the scan ran those others are no nearer than that reach less `_RADIUS`, so
 a near pose of the window is nearer than that, the first minimum over the near poses
 (measured in order, with the scan's arithmetic) is the first minimum over the window.
 And every other search repeats the one before (odometry reports at half the tree's
-rate): the same start and robot give the same answer, kept.
+rate): the same start and robot give the same answer, kept. When the closest pose moved
+on, the repeat starts from it, and is kept as well when the certificate shows it must
+find the same pose (no near pose where its window reaches further).
 """
 
 from __future__ import annotations
@@ -56,8 +58,9 @@ _AHEAD = 6
 _AHEAD_POSES = 32
 #: The latest search of none (`PathProgress._last`).
 _NO_SEARCH: tuple[int, float, float, float] = (-1, 0.0, 0.0, 0.0)
-#: The certificate of no scan: (first, stop, x, y, radius², limit², near) covering no window.
-_NO_CERTIFICATE: tuple[Any, ...] = (1, 0, 0.0, 0.0, -1.0, 0.0, ())
+#: The certificate of no scan: (first, stop, x, y, radius², limit², near, near_end) covering
+#: no window.
+_NO_CERTIFICATE: tuple[Any, ...] = (1, 0, 0.0, 0.0, -1.0, 0.0, (), 0)
 
 
 class PathProgress:
@@ -84,7 +87,8 @@ class PathProgress:
         self._stop: list[int] = []  # one past the search window's last pose, by start (0: unknown)
         # the latest scan's certificate: poses first to stop (not included) of this path
         # are searched among `near`, ((index, x, y), ...), while the robot is within
-        # `radius²` of (x, y) and the nearest near pose within `limit²` (`_certify`)
+        # `radius²` of (x, y) and the nearest near pose within `limit²` (`_certify`);
+        # `near_end` is one past the last near pose
         self._certificate = _NO_CERTIFICATE
         # the latest search, (start, x, y, length left): odometry reports at half the
         # tree's rate, so every other search repeats the one before it (the same start
@@ -132,7 +136,7 @@ class PathProgress:
             self._ahead(start)
             stop = self._stop[start]
         closest = -1
-        first, last, cx, cy, radius_sq, limit_sq, near = self._certificate
+        first, last, cx, cy, radius_sq, limit_sq, near, near_end = self._certificate
         if first <= start and stop <= last:
             dx = x - cx
             dy = y - cy
@@ -145,14 +149,26 @@ class PathProgress:
                         sq = dx * dx + dy * dy
                         if sq < best_sq:  # (in order: the first of equal ones stays)
                             best_sq, closest = sq, i
-        if closest < 0:
+        covered = closest >= 0  # the certificate answers this search
+        if not covered:
             if self._exact and math.isfinite(x) and math.isfinite(y):
                 closest = self._certify(start, stop, x, y)
+                certificate = self._certificate
+                covered = certificate is not _NO_CERTIFICATE
+                last, near_end = certificate[1], certificate[7]
             else:
                 closest = self._full_scan(start, stop, x, y)
         self.closest = closest
         remaining = self._left[closest]
-        self._last = (start, x, y, remaining)  # (repeated only if closest == start)
+        if covered and closest != start:
+            # The next search, from `closest` at the same spot (odometry at half the tree's
+            # rate), finds `closest` again if the certificate covers its window too and no
+            # near pose lies where that window reaches past this one's: its near poses are
+            # then this search's from `closest` on, `closest` the first minimum of them.
+            next_stop = self._stop[closest]
+            if next_stop and next_stop <= last and near_end <= stop:
+                start = closest
+        self._last = (start, x, y, remaining)
         return remaining
 
     def _ahead(self, first: int) -> None:
@@ -203,7 +219,17 @@ class PathProgress:
             gap = distance - reach
             i = bisect_left(arc, arc[i] + gap, i + 1, last) if gap > 0.0 else i + 1
         limit = reach - _RADIUS - 3.0 * slack
-        self._certificate = (start, last, x, y, _RADIUS * _RADIUS, limit * limit, tuple(near))
+        near_end = near[-1][0] + 1 if near else 0  # (near poses are in path order)
+        self._certificate = (
+            start,
+            last,
+            x,
+            y,
+            _RADIUS * _RADIUS,
+            limit * limit,
+            tuple(near),
+            near_end,
+        )
         return best
 
     def _windows(self, starts: np.ndarray) -> list[int]:
