@@ -51,6 +51,7 @@ _SLACK = 1e-9
 #: thirteen searches (326 scans for 4322 searches; 515 at 3 cm, with four near poses, took
 #: 5 ms more; 2847 without certificates).
 _RADIUS = 0.05
+_RADIUS_SQ = _RADIUS * _RADIUS
 #: Poses past the window's end a certificate also covers: the window moves on with its start.
 _AHEAD = 6
 #: Poses whose window ends are worked out together (`_ahead`): on the RPP office tour
@@ -84,7 +85,7 @@ class PathProgress:
         self._exact = False  # float64 and finite: the pruned scan applies
         self._px: Any = None  # the path's x and y (numpy), for the full scan
         self._py: Any = None
-        self._stop: list[int] = []  # one past the search window's last pose, by start (0: unknown)
+        self._stop: list[int] = []  # one past the search window's last pose by start (0: not yet)
         # the latest scan's certificate: poses first to stop (not included) of this path
         # are searched among `near`, ((index, x, y), ...), while the robot is within
         # `radius²` of (x, y) and the nearest near pose within `limit²` (`_certify`);
@@ -220,16 +221,7 @@ class PathProgress:
             i = bisect_left(arc, arc[i] + gap, i + 1, last) if gap > 0.0 else i + 1
         limit = reach - _RADIUS - 3.0 * slack
         near_end = near[-1][0] + 1 if near else 0  # (near poses are in path order)
-        self._certificate = (
-            start,
-            last,
-            x,
-            y,
-            _RADIUS * _RADIUS,
-            limit * limit,
-            tuple(near),
-            near_end,
-        )
+        self._certificate = (start, last, x, y, _RADIUS_SQ, limit * limit, tuple(near), near_end)
         return best
 
     def _windows(self, starts: np.ndarray) -> list[int]:
@@ -272,10 +264,11 @@ class PathProgress:
 
     def _scan(self, first: int, stop: int, x: float, y: float, best: int, best_sq: float) -> int:
         """`_full_scan`'s index over poses `first` to `stop`, given the closest pose before
-        them (`best`, at `best_sq`), jumping over poses the triangle inequality rules out. When the robot is far from the best pose so far, the window's
-        last pose is measured first: if the robot is well ahead of the search's start (a
-        new path is searched from its first pose), its distance rules out the poses far
-        behind at once, where the scan would otherwise walk up to it pose by pose."""
+        them (`best`, at `best_sq`), jumping over poses the triangle inequality rules out.
+        When the robot is far from the best pose so far, the window's last pose is measured
+        first: if the robot is well ahead of the search's start (a new path is searched
+        from its first pose), its distance rules out the poses far behind at once, where
+        the scan would otherwise walk up to it pose by pose."""
         xs, ys, arc = self._xs, self._ys, self._arc
         slack = self._slack + _SLACK * (abs(x) + abs(y))
         sqrt = math.sqrt
