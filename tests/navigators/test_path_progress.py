@@ -252,3 +252,32 @@ def test_every_window_ends_where_nav2s_cumsum_and_searchsorted_end_it(make):
             starts = [int(i) for i in rng.permutation(len(poses))[:count]]
         want = [i + 1 + int(np.searchsorted(np.cumsum(seg[i:]), window)) for i in starts]
         assert progress._windows(np.array(starts)) == want
+
+
+def tangled_path(rng: np.random.Generator) -> np.ndarray:
+    """Poses scattered over a box of 5 to 40 cm, some in dense runs: the path crosses
+    itself everywhere, so a pose far along it is often near the robot, past where a
+    window that starts a few poses on reaches."""
+    xy = rng.uniform(0.0, rng.uniform(0.05, 0.4), (int(rng.integers(10, 80)), 2))
+    if rng.random() < 0.5:
+        xy = np.repeat(xy, rng.integers(1, 6, len(xy)), axis=0)
+        xy = xy + rng.normal(0.0, 0.01, xy.shape)
+    return np.concatenate([xy, np.zeros((len(xy), 1))], axis=1)
+
+
+def test_a_robot_wandering_about_a_tangled_path_is_searched_as_nav2_does():
+    """Each spot searched twice, the second time from the pose the first found: the
+    search kept from the first must be the one Nav2 makes from there."""
+    rng = np.random.default_rng(2)
+    for _ in range(150):
+        poses = tangled_path(rng)
+        window = float(rng.uniform(0.05, 1.5))
+        progress = PathProgress(lambda w=window: w)
+        path = Path(0.0, poses)
+        start = 0
+        x, y = float(poses[0, 0]), float(poses[0, 1])
+        for _ in range(60):
+            x += float(rng.normal(0, 0.01))
+            y += float(rng.normal(0, 0.01))
+            start = searched_as_nav2(progress, path, start, window, x, y)
+            start = searched_as_nav2(progress, path, start, window, x, y)
