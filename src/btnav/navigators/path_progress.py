@@ -39,7 +39,6 @@ from typing import Any
 
 import numpy as np
 
-from ..core import fmath
 from ..core.messages import Path
 
 #: Relative slack on the distance bound: far above float64 rounding (1e-16), far below
@@ -107,7 +106,7 @@ class PathProgress:
         xy = path.poses[:, :2]
         self._n = n = len(xy)
         self._px, self._py = np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1])
-        self._seg = seg = fmath.hypot(*np.diff(xy, axis=0).T) if n > 1 else np.zeros(0)
+        self._seg = seg = path.segment_lengths  # (float64; shared with the tree's nodes)
         # the length left from each pose, summed from the path's end: one running sum for
         # every pose, where Nav2 sums from each pose on (the two differ by rounding only)
         self._left = [*np.cumsum(seg[::-1])[::-1].tolist(), 0.0]
