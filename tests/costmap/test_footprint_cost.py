@@ -94,3 +94,5 @@ def test_keeps_the_shape_of_the_poses():
     cm = grid()
     x = np.full((3, 4), 2.5)
     assert footprint_costs(cm, RECT, x, x, np.zeros((3, 4))).shape == (3, 4)
+    none = np.zeros((2, 0))
+    assert footprint_costs(cm, RECT, none, none, none).shape == (2, 0)

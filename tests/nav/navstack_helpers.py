@@ -71,6 +71,15 @@ DWB = {
 }
 
 
+#: DWB as Nav2 documents it for a robot that is not round: ObstacleFootprint (the costmap's
+#: footprint laid at every pose) in place of BaseObstacle (the cell under its centre).
+DWB_FOOTPRINT = {
+    **{k: v for k, v in DWB.items() if not k.startswith("BaseObstacle.")},
+    "critics": ["ObstacleFootprint" if c == "BaseObstacle" else c for c in DWB["critics"]],
+    "ObstacleFootprint.scale": 0.02,
+}
+
+
 def params_with_controller(tmp_path: Path, section: dict) -> Path:
     """A copy of Nav2's params whose FollowPath section is `section` (nothing else changes)."""
     doc = yaml.safe_load(PARAMS.read_text())

@@ -15,6 +15,7 @@ from btnav.nav import GoalStatus
 
 from .navstack_helpers import (
     DWB,
+    DWB_FOOTPRINT,
     follow,
     office,
     params_with_controller,
@@ -39,6 +40,7 @@ def _through_doorway(path) -> bool:
     [
         "MPPI",
         "DWB",
+        "DWB ObstacleFootprint",
         "RPP",
     ],
 )
@@ -46,6 +48,7 @@ def test_reaches_goal_through_doorway(controller, tmp_path):
     params = {
         "MPPI": None,
         "DWB": DWB,
+        "DWB ObstacleFootprint": DWB_FOOTPRINT,
         "RPP": RPP,
     }[controller]
     args = () if params is None else (params_with_controller(tmp_path, params),)

@@ -311,3 +311,46 @@ def test_known_nodes_are_ignored_not_errors(tmp_path: Path) -> None:
 
 def test_test_plugin_name_is_not_nav2s(inflation_plugin) -> None:
     assert "::" in TEST_INFLATION and not TEST_INFLATION.startswith("nav2_")
+
+
+def _dwb_params(tmp_path: Path, **keys: object) -> Path:
+    """Nav2's params with DWB, ObstacleFootprint for BaseObstacle, PreferForward and
+    Twirling added, plus `keys`."""
+    from ..nav.navstack_helpers import DWB_FOOTPRINT, params_with_controller
+
+    critics = [*DWB_FOOTPRINT["critics"], "PreferForward", "Twirling"]
+    return params_with_controller(tmp_path, {**DWB_FOOTPRINT, "critics": critics, **keys})
+
+
+def test_a_misspelt_dwb_critic_key_names_its_line_and_the_right_spelling(tmp_path: Path) -> None:
+    path = _dwb_params(tmp_path, **{"PreferForward.theta_scal": 5.0})
+    err = error_of(path)
+    assert path.read_text().splitlines()[err.line - 1].strip() == "PreferForward.theta_scal: 5.0"
+    assert err.key == "controller_server.FollowPath.PreferForward.theta_scal"
+    assert err.suggestion == "theta_scale"
+    assert "unknown key 'theta_scal' for critic PreferForward" in str(err)
+
+
+def test_a_misspelt_dwb_critic_name_in_a_key_suggests_the_listed_critic(tmp_path: Path) -> None:
+    path = _dwb_params(tmp_path, **{"PrefrForward.penalty": 2.0})
+    err = error_of(path)
+    assert path.read_text().splitlines()[err.line - 1].strip() == "PrefrForward.penalty: 2.0"
+    assert (err.key, err.suggestion) == (
+        "controller_server.FollowPath.PrefrForward",
+        "PreferForward",
+    )
+
+
+def test_a_bad_dwb_critic_value_names_its_key(tmp_path: Path) -> None:
+    err = error_of(_dwb_params(tmp_path, **{"Twirling.scale": "high"}))
+    assert err.key == "controller_server.FollowPath.Twirling.scale"
+    assert "valid number" in err.message
+
+
+def test_keys_of_a_dwb_critic_left_out_of_the_list_are_ignored_as_in_nav2(tmp_path: Path) -> None:
+    params = load_params(_dwb_params(tmp_path, **{"BaseObstacle.scale": 0.02}))
+    section = params.server("controller_server").plugins["FollowPath"].params
+    assert "BaseObstacle" not in section.critic_params
+    assert section.critic_params["PreferForward"].theta_scale == 10.0
+    ignored = {e.key: e.reason for e in params.ignored}
+    assert "not used" in ignored["controller_server.FollowPath.BaseObstacle"]

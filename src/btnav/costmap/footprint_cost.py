@@ -41,26 +41,36 @@ def footprint_costs(
     fx = (wx - costmap.origin_x) / costmap.resolution
     fy = (wy - costmap.origin_y) / costmap.resolution
     off = (fx < 0) | (fy < 0) | (fx >= costmap.size_x) | (fy >= costmap.size_y)
-    mx = np.clip(fx, 0, costmap.size_x - 1).astype(np.int64)
-    my = np.clip(fy, 0, costmap.size_y - 1).astype(np.int64)
+    # int32 halves the memory the pixels take; it holds a flat index and major * minor
+    # while neither side of the grid reaches 46341 cells.
+    index = np.int32 if max(costmap.size_x, costmap.size_y) <= 46_340 else np.int64
+    mx = np.clip(fx, 0, costmap.size_x - 1).astype(index)
+    my = np.clip(fy, 0, costmap.size_y - 1).astype(index)
     # Each edge i runs from vertex i to vertex i + 1 (the last back to the first).
-    x0, y0 = mx, my
     x1, y1 = np.roll(mx, -1, axis=1), np.roll(my, -1, axis=1)
-    dx, dy = np.abs(x1 - x0), np.abs(y1 - y0)
-    sx = np.where(x1 >= x0, 1, -1)
-    sy = np.where(y1 >= y0, 1, -1)
+    dx, dy = np.abs(x1 - mx), np.abs(y1 - my)
     major = np.maximum(dx, dy)
     minor = np.minimum(dx, dy)
-    k = np.arange(int(major.max(initial=0)) + 1)[None, None, :]  # pixel index along an edge
-    valid = k <= major[..., None]
-    # LineIterator: the numerator starts at major // 2 and gains `minor` a pixel; the minor
-    # coordinate steps each time it reaches `major`.
-    steps = (major[..., None] // 2 + k * minor[..., None]) // np.maximum(major, 1)[..., None]
-    x_major = (dx >= dy)[..., None]
-    cx = x0[..., None] + sx[..., None] * np.where(x_major, k, steps)
-    cy = y0[..., None] + sy[..., None] * np.where(x_major, steps, k)
-    cells = costmap.costs[np.where(valid, cy, y0[..., None]), np.where(valid, cx, x0[..., None])]
-    flat = cells.reshape(len(px), -1)
+    # Pixel k of an edge along its major axis (past the edge's end: its last cell again,
+    # which is on the outline anyway). LineIterator: the numerator starts at major // 2 and
+    # gains `minor` a pixel; the minor coordinate steps each time it reaches `major`.
+    k = np.arange(int(major.max(initial=0)) + 1, dtype=index)
+    along = np.minimum(k, major[..., None])
+    across = (major[..., None] // 2 + along * minor[..., None]) // np.maximum(major, 1)[..., None]
+    # Each pixel's flat index: the edge's first cell, plus `along` steps on the major axis
+    # and `across` on the minor (a step in y is a row, `size_x` cells).
+    w = costmap.size_x
+    step_x = np.where(x1 >= mx, 1, -1).astype(index)
+    step_y = np.where(y1 >= my, w, -w).astype(index)
+    x_major = dx >= dy
+    major_step = np.where(x_major, step_x, step_y)[..., None]
+    minor_step = np.where(x_major, step_y, step_x)[..., None]
+    idx = (my * w + mx)[..., None] + major_step * along + minor_step * across
+    flat = (
+        np.ascontiguousarray(costmap.costs)
+        .ravel()
+        .take(idx.reshape(len(px), idx.shape[1] * idx.shape[2]))
+    )
     cost = flat.max(axis=1)
     cost = np.where((flat == LETHAL_OBSTACLE).any(axis=1), LETHAL_OBSTACLE, cost)
     cost = np.where(off.any(axis=1), LETHAL_OBSTACLE, cost)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,6 +46,13 @@ class TrajectoryCritic:
         self.name = name
         self.params = params if params is not None else self.Params()
         self.planner = planner
+
+    #: The local costmap server (Nav2's costmap_ros_), once the planner is configured.
+    costmap_ros: Any = None
+
+    def configure(self, costmap_ros: Any) -> None:
+        """Nav2's initialize(): the costmap server whose footprint a critic may read."""
+        self.costmap_ros = costmap_ros
 
     def prepare(
         self,

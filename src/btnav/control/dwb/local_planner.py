@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import pydantic
 from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
@@ -22,8 +23,9 @@ from ... import plugins as registry
 from ...core.errors import PluginError
 from ...core.geometry import Pose2D
 from ...core.messages import Path, Twist
+from ...core.suggest import best_match
 from ...costmap.costmap_2d import Costmap2D
-from ...params.schema import Names, Why, ignored, one_of
+from ...params.schema import FieldProblem, Names, Why, ignored, named_sections, one_of
 from ...plugins import register
 from ..controller import Controller
 from ..exceptions import InvalidPath, NoValidControl
@@ -69,6 +71,9 @@ def critic_class(name: str, section: Mapping[str, Any] | None = None) -> type[Tr
 class DWBParams(Controller.Params):
     critics: Names = Field(default_factory=lambda: list(DEFAULT_CRITICS))
     critic_params: dict[str, Any] = Field(default_factory=dict)
+    unlisted_critic_params: dict[str, Any] = named_sections(
+        "critics", "a critic not named in 'critics:' is not used (as in Nav2)"
+    )
     trajectory_generator_name: one_of(  # type: ignore[valid-type]
         "dwb_plugins::StandardTrajectoryGenerator",
         "dwb_plugins::LimitedAccelGenerator",
@@ -130,47 +135,79 @@ class DWBParams(Controller.Params):
     @model_validator(mode="before")
     @classmethod
     def _gather_critics(cls, data: Any) -> Any:
+        """Each listed critic's keys, flat (`PathAlign.scale`) or nested, into its own Params;
+        a problem names the key as the file writes it."""
         if not isinstance(data, Mapping):
             return data
-        if "critic_params" in data:
-            raise ValueError("unknown key 'critic_params'")
+        for internal in ("critic_params", "unlisted_critic_params"):
+            if internal in data:
+                raise FieldProblem(internal, f"unknown key '{internal}'")
         names = data.get("critics", DEFAULT_CRITICS)
         if not isinstance(names, list):
             return data
         out: dict[str, Any] = {}
-        sections: dict[str, dict[str, Any]] = {n: {} for n in names if isinstance(n, str)}
+        #: per critic: its key -> (value, the key's path in the file)
+        sections: dict[str, dict[str, tuple[Any, tuple[str, ...]]]] = {
+            n: {} for n in names if isinstance(n, str)
+        }
+        unlisted: dict[str, Any] = {}
         for key, value in data.items():
             head, dot, tail = str(key).partition(".")
+            nested = isinstance(value, Mapping) and not dot
             if dot and head in sections:
-                sections[head][tail] = value
-            elif head in sections and isinstance(value, Mapping):
-                sections[head].update(value)
-            elif dot:
-                raise ValueError(f"'{key}': '{head}' is not in the critics list")
+                sections[head][tail] = (value, (key,))
+            elif nested and head in sections:
+                sections[head].update({str(k): (v, (key, str(k))) for k, v in value.items()})
+            elif (dot or nested) and head not in cls.model_fields and _is_critic(head):
+                # a critic the list leaves out: its keys are not used (as in Nav2)
+                unlisted.setdefault(head, {}).update({tail: value} if dot else value)
+            elif dot or (nested and head not in cls.model_fields):
+                raise FieldProblem(
+                    head if nested else key,
+                    f"'{head}' is neither a key of this section nor a critic in its list "
+                    f"({', '.join(sections)})",
+                    suggestion=best_match(head, [*sections, *cls.model_fields]),
+                )
             else:
                 out[key] = value
-        out["critic_params"] = sections
+        out["unlisted_critic_params"] = unlisted
+        out["critic_params"] = {name: _critic_params(name, keys) for name, keys in sections.items()}
         return out
 
-    @model_validator(mode="after")
-    def _validate_critics(self) -> DWBParams:
-        built = {}
-        for name in self.critics:
-            raw = dict(self.critic_params.get(name, {}))
-            try:
-                cls = critic_class(name, raw)
-            except PluginError as exc:
-                raise ValueError(str(exc)) from None
-            raw.pop("class", None)
-            raw.setdefault("scale", DEFAULT_SCALES.get(name, 1.0))
-            if name in DEFAULT_FORWARD_POINT and "forward_point_distance" not in raw:
-                raw["forward_point_distance"] = DEFAULT_FORWARD_POINT[name]
-            try:
-                built[name] = cls.Params.model_validate(raw)
-            except Exception as exc:
-                raise ValueError(f"critic '{name}': {exc}") from None
-        object.__setattr__(self, "critic_params", built)
-        return self
+
+def _critic_params(name: str, keys: dict[str, tuple[Any, tuple[str, ...]]]) -> Any:
+    """The critic's Params from its keys, with btnav's defaults for Nav2's documented scales."""
+    raw = {k: value for k, (value, _) in keys.items()}
+    try:
+        cls = critic_class(name, raw)
+    except PluginError as exc:
+        where = keys["class"][1] if "class" in keys else ("critics",)
+        raise FieldProblem(where, exc.message, suggestion=exc.suggestion) from None
+    raw.pop("class", None)
+    raw.setdefault("scale", DEFAULT_SCALES.get(name, 1.0))
+    if name in DEFAULT_FORWARD_POINT and "forward_point_distance" not in raw:
+        raw["forward_point_distance"] = DEFAULT_FORWARD_POINT[name]
+    try:
+        return cls.Params.model_validate(raw)
+    except pydantic.ValidationError as exc:
+        err = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")[0]
+        field = str(err["loc"][0]) if err["loc"] else ""
+        where = keys[field][1] if field in keys else ("critics",)
+        if err["type"] != "extra_forbidden":
+            raise FieldProblem(where, f"critic {name}: {err['msg']}") from None
+        raise FieldProblem(
+            where,
+            f"unknown key '{field}' for critic {name}",
+            suggestion=best_match(field, list(cls.Params.model_fields)),
+        ) from None
+
+
+def _is_critic(name: str) -> bool:
+    try:
+        critic_class(name)
+    except PluginError:
+        return False
+    return True
 
 
 @register("controller", "dwb_core::DWBLocalPlanner")
@@ -189,6 +226,12 @@ class DWBLocalPlanner(Controller):
         self.control_duration = 0.05
         self.last_trajectories: Trajectories | None = None
         self.last_scores: NDArray[np.float64] | None = None
+
+    def configure(self, costmap_ros: Any) -> None:
+        """As Nav2's DWB initialises each critic with the costmap server."""
+        super().configure(costmap_ros)
+        for c in self.critics:
+            c.configure(costmap_ros)
 
     def set_plan(self, path: Path) -> None:
         poses = np.asarray(path.poses, float).reshape(-1, 3)
