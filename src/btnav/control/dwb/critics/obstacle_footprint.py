@@ -72,8 +72,8 @@ class ObstacleFootprintCritic(BaseObstacleCritic):
 
     def _reach(self, costmap: Costmap2D) -> float:
         """How far (cells, centre to centre) from a pose's cell its outline's cells can lie:
-        the footprint's circumradius, plus half a cell from each vertex to its cell's centre
-        and from the pose to its cell's, plus half a cell of Bresenham's line (and a margin)."""
+        the footprint's circumradius plus 1.92 cells (a vertex and the pose each lie within
+        0.71 of their cell's centre, Bresenham's cells within 0.5 of the segment), and a margin."""
         assert self.footprint is not None
         radius = float(np.hypot(self.footprint[:, 0], self.footprint[:, 1]).max())
         return radius / costmap.resolution + 2.5
