@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Annotated, Any
 
 import pydantic
@@ -236,6 +236,25 @@ def _first_error(exc: pydantic.ValidationError) -> dict[str, Any]:
     # The same choice core.validation makes: an unknown key first (usually a typo).
     errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
     return dict(errors[0])
+
+
+def section_problem(
+    exc: pydantic.ValidationError,
+    model: type[pydantic.BaseModel],
+    label: str,
+    place: Callable[[tuple[str, ...]], tuple[str | int, ...]],
+) -> FieldProblem:
+    """The first problem of a sub-section validated apart from its section (a critic's own
+    Params), placed in the file by `place(loc)`; an unknown key names the closest valid one."""
+    err = _first_error(exc)
+    loc = tuple(str(part) for part in err["loc"])
+    if err["type"] == "extra_forbidden" and loc:
+        return FieldProblem(
+            place(loc),
+            f"unknown key '{loc[-1]}' for {label}",
+            suggestion=best_match(loc[-1], list(model.model_fields)),
+        )
+    return FieldProblem(place(loc), err["msg"])
 
 
 def validate_section(

@@ -25,7 +25,15 @@ from ...core.geometry import Pose2D
 from ...core.messages import Path, Twist
 from ...core.suggest import best_match
 from ...costmap.costmap_2d import Costmap2D
-from ...params.schema import FieldProblem, Names, Why, ignored, named_sections, one_of
+from ...params.schema import (
+    FieldProblem,
+    Names,
+    Why,
+    ignored,
+    named_sections,
+    one_of,
+    section_problem,
+)
 from ...plugins import register
 from ..controller import Controller
 from ..exceptions import InvalidPath, NoValidControl
@@ -190,16 +198,11 @@ def _critic_params(name: str, keys: dict[str, tuple[Any, tuple[str, ...]]]) -> A
     try:
         return cls.Params.model_validate(raw)
     except pydantic.ValidationError as exc:
-        err = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")[0]
-        field = str(err["loc"][0]) if err["loc"] else ""
-        where = keys[field][1] if field in keys else ("critics",)
-        if err["type"] != "extra_forbidden":
-            raise FieldProblem(where, f"critic {name}: {err['msg']}") from None
-        raise FieldProblem(
-            where,
-            f"unknown key '{field}' for critic {name}",
-            suggestion=best_match(field, list(cls.Params.model_fields)),
-        ) from None
+
+        def place(loc: tuple[str, ...]) -> tuple[str, ...]:
+            return keys[loc[0]][1] if loc and loc[0] in keys else ("critics",)
+
+        raise section_problem(exc, cls.Params, f"critic {name}", place) from None
 
 
 def _is_critic(name: str) -> bool:

@@ -24,6 +24,7 @@ from ...params.schema import (
     ignored,
     named_sections,
     one_of,
+    section_problem,
 )
 from .critic_function import NAMESPACE
 from .motion_models import LEGACY_NAMES, MOTION_MODELS
@@ -193,14 +194,7 @@ def _validate_critic(name: str, body: Any) -> Any:
     try:
         return model.model_validate(body if body is not None else {})
     except pydantic.ValidationError as exc:
-        err = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")[0]
-        loc = [str(p) for p in err["loc"]]
-        msg = err["msg"]
-        suggestion = None
-        if err["type"] == "extra_forbidden" and loc:
-            msg = f"unknown key '{loc[-1]}' for {name}"
-            suggestion = best_match(loc[-1], list(model.model_fields))
-        raise FieldProblem((name, *loc), msg, suggestion=suggestion) from None
+        raise section_problem(exc, model, name, lambda loc: (name, *loc)) from None
 
 
 def _gather_critics(cls: type[pydantic.BaseModel], data: Mapping[str, Any]) -> dict[str, Any]:
