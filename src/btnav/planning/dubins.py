@@ -82,9 +82,7 @@ def all_words(
         np.array([cb - ca, ca - cb, -ca - cb, ca + cb]),
         np.array([d + sa - sb, d - sa + sb, d + sa + sb, d - sa - sb]),
     )
-    heading = heading - np.array([0.0, 0.0, 1.0, 1.0]) * fmath.arctan2(
-        np.array([0.0, 0.0, -2.0, 2.0]), np.where(p > 0.0, p, 1.0)
-    )
+    heading[2:] -= fmath.arctan2(np.array([-2.0, 2.0]), p[2:])  # the cross tangents' tilt
     sign_a = np.array([-1.0, 1.0, -1.0, 1.0])
     t = _mod2pi(sign_a * (a - heading))
     q = _mod2pi(np.array([b - heading[0], -b + heading[1], -b + heading[2], b - heading[3]]))
