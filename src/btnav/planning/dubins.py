@@ -9,17 +9,18 @@ a plan is the same bits on every CPU.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from btnav.core import fmath
+from btnav.core.geometry import TWO_PI
 
 WORDS = ("LSL", "RSR", "LSR", "RSL", "RLR", "LRL")
-_TWO_PI = 2.0 * np.pi
 
 
-def _mod2pi(a: np.ndarray) -> np.ndarray:
-    return np.mod(a, _TWO_PI)
+def _mod2pi(a: Any) -> Any:
+    return np.mod(a, TWO_PI)
 
 
 @dataclass(frozen=True)
@@ -62,8 +63,8 @@ def all_words(
     dx, dy = goal[0] - start[0], goal[1] - start[1]
     d = float(fmath.hypot(dx, dy)) / turning_radius
     theta = float(fmath.arctan2(dy, dx)) if d > 0.0 else 0.0
-    a = float(np.mod(start[2] - theta, _TWO_PI))
-    b = float(np.mod(goal[2] - theta, _TWO_PI))
+    a = float(_mod2pi(start[2] - theta))
+    b = float(_mod2pi(goal[2] - theta))
     sa, ca = float(fmath.sin(a)), float(fmath.cos(a))
     sb, cb = float(fmath.sin(b)), float(fmath.cos(b))
     cab = float(fmath.cos(a - b))
@@ -96,7 +97,7 @@ def all_words(
     )
     turn_ok = np.abs(cos_mid) <= 1.0
     c = np.clip(cos_mid, -1.0, 1.0)
-    p_turn = _mod2pi(_TWO_PI - fmath.arctan2(np.sqrt(1.0 - c * c), c))
+    p_turn = _mod2pi(TWO_PI - fmath.arctan2(np.sqrt(1.0 - c * c), c))
     t_turn = _mod2pi(
         np.array([a, -a])
         - fmath.arctan2(np.array([ca - cb, ca - cb]), np.array([d - sa + sb, d + sa - sb]))
@@ -105,7 +106,7 @@ def all_words(
     q_turn = _mod2pi(np.array([a - b, b - a]) - t_turn + p_turn)
 
     ts = np.concatenate([t, t_turn]) * turning_radius
-    ps = np.concatenate([p * turning_radius, p_turn * turning_radius])
+    ps = np.concatenate([p, p_turn]) * turning_radius
     qs = np.concatenate([q, q_turn]) * turning_radius
     ok = np.concatenate([straight_ok, turn_ok])
     return {
