@@ -56,7 +56,8 @@ _entry_points_loaded = False
 class Plugin:
     """The shape the `cls(name, params)` plugin kinds share, as nav2_core's interfaces do:
     a `Params` model (the schema of the plugin's params section), the name the params
-    file gives the instance, and its validated params (the defaults when None).
+    file gives the instance, and its validated params (the defaults when None); then
+    `configure(costmap_ros)` hands over what the plugin works on.
 
     Controllers, global planners, smoothers, goal and progress checkers, path handlers
     and costmap layers extend it; `register` fills in `plugin_kind` and `plugin_name`.
@@ -66,9 +67,18 @@ class Plugin:
     plugin_kind: ClassVar[str]
     plugin_name: ClassVar[str]
 
+    #: The costmap server the plugin's server hands over in `configure` (footprint, radii,
+    #: layers, frames); None when the plugin is used on its own with a bare grid.
+    costmap_ros: Any = None
+
     def __init__(self, name: str, params: Any = None) -> None:
         self.name = name
         self.params = params if params is not None else type(self).Params()
+
+    def configure(self, costmap_ros: Any) -> None:
+        """nav2_core's configure(): the server hands over its costmap server, once, after
+        construction, so a footprint-aware planner or controller can see the footprint."""
+        self.costmap_ros = costmap_ros
 
 
 def canonical(name: str) -> str:

@@ -22,14 +22,6 @@ class Controller(Plugin):
     class Params(ParamsModel):
         pass
 
-    #: The costmap server the controller works on (footprint, radii, layers); None when
-    #: the controller is used on its own, with only the grid `compute_velocity_commands` gets.
-    costmap_ros: Any = None
-
-    def configure(self, costmap_ros: Any) -> None:
-        """Nav2's configure(): the controller server hands over its local costmap server."""
-        self.costmap_ros = costmap_ros
-
     def set_plan(self, path: Path) -> None:
         """A new path to follow (Nav2's setPlan: a controller may reset its state)."""
         raise NotImplementedError

@@ -68,8 +68,6 @@ class ControllerServer(PluginServer):
         seed: int | None = None,
     ) -> None:
         super().__init__(runtime, params, costmap, seed=seed)
-        for controller in self.controllers.values():
-            controller.configure(costmap.costmap_ros)
         self.rate = float(params.model.controller_frequency)
         self.goal_checkers: dict[str, Any] = make_plugins(params, "goal_checker")
         self.progress_checkers: dict[str, Any] = make_plugins(params, "progress_checker")

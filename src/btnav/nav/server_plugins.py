@@ -47,8 +47,10 @@ def pick(plugins: dict[str, Any], wanted: str) -> Any | None:
 class PluginServer:
     """A Nav2 server owning the plugins of one kind (`kind`) on a costmap, and answering
     its actions on the step after a goal comes (no sim time passes during a call; the
-    controller server runs at its `controller_frequency` instead). The server holds its
-    action servers and registers them with the runtime."""
+    controller server runs at its `controller_frequency` instead). Each plugin is built
+    from its name and params, then configured with the server's costmap server, as
+    nav2_core's plugins are. The server holds its action servers and registers them
+    with the runtime."""
 
     stage = Stage.SERVER
     kind: ClassVar[str]
@@ -61,6 +63,8 @@ class PluginServer:
         self.params = params
         self.costmap = costmap
         self.plugins: dict[str, Any] = make_plugins(params, self.kind, seed=self.seed)
+        for plugin in self.plugins.values():
+            plugin.configure(costmap.costmap_ros)
         self.rate = 1.0 / runtime.physics_dt
         self.actions: list[ActionServer[Any]] = self.action_servers()
         for action in self.actions:
