@@ -40,6 +40,7 @@ KINDS: tuple[str, ...] = (
     "localizer",
     "slam",
     "sensor",
+    "drive",
     "bt_node",
     "navigator",
     "waypoint_task_executor",

@@ -13,7 +13,8 @@ from btnav.core.clock import Rate, SimClock
 from btnav.core.geometry import Pose2D
 from btnav.core.messages import Twist
 from btnav.core.rng import stream
-from btnav.sim.odometry import WheelOdometry, decompose, make_odometry, sample_motion
+from btnav.sim.odometry import WheelOdometry, make_odometry
+from btnav.sim.odometry_noise import decompose, sample_motion
 from btnav.sim.world import World
 from btnav.sim.world_spec import WorldSpec
 

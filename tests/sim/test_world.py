@@ -107,7 +107,6 @@ def test_misspelt_key_names_file_line_and_right_spelling(tmp_path, old, new, bad
         ("speed: 0.3", "speed: .inf", "speed", "finite"),
         ("pose: [1.0, 1.0, 0.0]", "pose: [1.0, 1.0]", "robot.pose", "[x, y, yaw]"),
         ("noise: [0.002, 0.0005, 0.0001, 0.0001]", "noise: [0.002, 0.0005]", "noise", "alpha4"),
-        ("drive: diff_drive", "drive: ackermann", "robot.drive", "diff_drive"),
         ("bounds: [[0, 0], [12, 8]]", "bounds: [[0, 0], [-12, 8]]", "bounds", "max > min"),
         ("  - [[4, 0], [4, 3]]", "  - [[4, 0]]", "walls[1].points", "at least 2"),
     ],

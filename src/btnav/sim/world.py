@@ -19,9 +19,10 @@ from ..core.clock import NS_PER_S
 from ..core.errors import WorldError
 from ..core.geometry import Pose2D
 from ..core.messages import Twist
+from .drive import make_drive, set_velocity
 from .geometry import Geometry
 from .moving import Route
-from .robot import ROBOT_COLLISION_TYPE, DiffDriveRobot, set_velocity
+from .robot import ROBOT_COLLISION_TYPE, Robot
 from .scene import Solid, build_solids, solids_geometry
 from .world_spec import WorldSpec, load_world_spec
 
@@ -107,7 +108,7 @@ class World:
         for index, solid in enumerate(self.solids):
             self._add_solid(index, solid)
 
-        self.robot = DiffDriveRobot(spec.robot)
+        self.robot = Robot(spec.robot, make_drive(spec, self.file))
         space.add(self.robot.body, *self.robot.shapes)
         self._check_start_pose()
 

@@ -60,11 +60,13 @@ Angle = Annotated[
 ]
 
 
-def _numbers(n: int, what: str) -> Any:
-    """A before-validator: a list of exactly `n` items, with a message that says what it is."""
+def _numbers(n: int | tuple[int, ...], what: str) -> Any:
+    """A before-validator: a list of exactly `n` items (or one of the counts `n` lists),
+    with a message that says what it is."""
+    counts = (n,) if isinstance(n, int) else n
 
     def check(v: Any) -> Any:
-        if isinstance(v, list | tuple) and len(v) != n:
+        if isinstance(v, list | tuple) and len(v) not in counts:
             raise ValueError(f"{what}, got {len(v)} item{'s' if len(v) != 1 else ''}")
         return v
 
@@ -325,11 +327,13 @@ def _odometry_source(v: Any) -> Any:
 
 
 class OdometrySpec(StrictModel):
-    """AMCL's differential-drive alphas, as variance per metre or radian of motion, and
-    the `source` of odom (`laser`: the wheels' noise and rate are then unused)."""
+    """AMCL's alphas for the drive's motion model (differential: four; omni: five, alpha5
+    the strafe noise), as variance per metre or radian of motion, and the `source` of
+    odom (`laser`: the wheels' noise and rate are then unused)."""
 
     noise: Annotated[
-        tuple[Alpha, Alpha, Alpha, Alpha], _numbers(4, "noise is [alpha1, alpha2, alpha3, alpha4]")
+        tuple[Alpha, Alpha, Alpha, Alpha] | tuple[Alpha, Alpha, Alpha, Alpha, Alpha],
+        _numbers((4, 5), "noise is [alpha1, alpha2, alpha3, alpha4] (and alpha5 for omni)"),
     ] = (0.0, 0.0, 0.0, 0.0)
     rate: Real = Field(50.0, gt=0, le=10_000, description="odometry messages per second")
     source: Annotated[Literal["wheels", "laser"], BeforeValidator(_odometry_source)] = Field(
@@ -338,7 +342,10 @@ class OdometrySpec(StrictModel):
 
 
 class RobotSpec(StrictModel):
-    drive: Literal["diff_drive"] = "diff_drive"
+    #: The drive plugin: its name (`diff_drive`, `ackermann`, `omni`, a user's), or a
+    #: one-key mapping `{name: {params}}`; kept as loaded, as `sensors` entries are, and
+    #: validated by the plugin's own `Params` when the world is built.
+    drive: Any = "diff_drive"
     footprint: FootprintSpec = Field(default_factory=lambda: FootprintSpec(radius=0.22))
     pose: Annotated[tuple[Coord, Coord, Angle], _numbers(3, "a pose is [x, y, yaw]")]
     limits: LimitsSpec = Field(default_factory=LimitsSpec)
@@ -346,6 +353,29 @@ class RobotSpec(StrictModel):
     #: Raw entries (`{plugin_name: params}`), kept as loaded so their lines survive;
     #: each plugin's own `Params` validates them when the sensors are built.
     sensors: list[Any] = Field(default_factory=list, max_length=1000)
+
+    @field_validator("drive")
+    @classmethod
+    def _drive_entry(cls, v: Any) -> Any:
+        if isinstance(v, str):
+            return v
+        if isinstance(v, dict) and len(v) == 1:
+            name, params = next(iter(v.items()))
+            if isinstance(name, str) and (params is None or isinstance(params, dict)):
+                return v
+        raise ValueError(
+            "a drive is a plugin name (diff_drive, ackermann, omni) or one mapping "
+            "{name: {params}}, e.g. {ackermann: {wheelbase: 0.33}}"
+        )
+
+    @property
+    def drive_name(self) -> str:
+        return self.drive if isinstance(self.drive, str) else next(iter(self.drive))
+
+    @property
+    def drive_params(self) -> Any:
+        """The drive's params as written (None when only its name is given)."""
+        return None if isinstance(self.drive, str) else next(iter(self.drive.values()))
 
     @field_validator("sensors")
     @classmethod
