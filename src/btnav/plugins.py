@@ -36,6 +36,7 @@ KINDS: tuple[str, ...] = (
     "progress_checker",
     "path_handler",
     "critic",
+    "motion_model",
     "costmap_layer",
     "localizer",
     "slam",

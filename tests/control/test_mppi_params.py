@@ -35,7 +35,7 @@ def test_nav2_follow_path_resolves_to_mppi(nav2_params_file):
     assert isinstance(p, MPPIParams)
     assert (p.time_steps, p.model_dt, p.batch_size) == (56, 0.05, 2000)
     assert (p.vx_std, p.wz_std, p.temperature, p.gamma) == (0.2, 0.4, 0.3, 0.015)
-    assert p.model_section().plugin == "mppi::DiffDriveMotionModel"
+    assert p.model_section().cls is lookup("motion_model", "mppi::DiffDriveMotionModel")
     assert p.trajectory_validator.collision_lookahead_time == 2.0
     cost = p.critic_sections["CostCritic"]
     assert isinstance(cost, CostCritic.Params)
@@ -85,6 +85,56 @@ def test_motion_model_section_and_legacy_spelling():
     assert MPPIController("x", p).model.min_turning_r == 0.2
     with pytest.raises(Exception, match="motion_model"):
         MPPIParams.model_validate({"motion_model": "tank"})
+
+
+def test_motion_models_are_plugins_a_users_model_is_a_peer_of():
+    from btnav.control.mppi.motion_models import OmniMotionModel
+    from btnav.plugins import register, unregister
+
+    @register("motion_model", "my_pkg::CrabMotionModel")
+    class Crab(OmniMotionModel):
+        class Params(OmniMotionModel.Params):
+            sideways_only: bool = True
+
+    try:
+        p = MPPIParams.model_validate(
+            {"motion_model": "crab", "crab": {"plugin": "my_pkg/CrabMotionModel"}}
+        )
+        model = MPPIController("x", p).model
+        assert isinstance(model, Crab) and model.params.sideways_only and model.holonomic
+    finally:
+        unregister("motion_model", "my_pkg::CrabMotionModel")
+
+
+def test_a_misspelt_motion_model_plugin_names_its_line_and_the_right_spelling(nav2_copy):
+    path, line = nav2_copy('"mppi::DiffDriveMotionModel"', '"mppi::DifDriveMotionModel"')
+    with pytest.raises(ParamsError) as info:
+        load_params(path)
+    assert info.value.line == line
+    assert info.value.key == "controller_server.FollowPath.diff_drive.plugin"
+    assert info.value.suggestion == "mppi::DiffDriveMotionModel"
+
+
+def test_a_misspelt_motion_model_param_names_the_right_spelling(nav2_copy):
+    path, line = nav2_copy(
+        '"mppi::DiffDriveMotionModel"',
+        '"mppi::AckermannMotionModel"\n        min_turning_radius: 0.5',
+    )
+    with pytest.raises(ParamsError) as info:
+        load_params(path)
+    assert info.value.line == line + 1
+    assert info.value.key == "controller_server.FollowPath.diff_drive.min_turning_radius"
+    assert info.value.suggestion == "min_turning_r"
+
+
+def test_ackermanns_min_turning_r_reaches_the_model():
+    p = MPPIParams.model_validate(
+        {
+            "motion_model": "ackermann",
+            "ackermann": {"plugin": "mppi::AckermannMotionModel", "min_turning_r": 0.9},
+        }
+    )
+    assert MPPIController("x", p).model.min_turning_r == 0.9
 
 
 def test_unlisted_critic_section_is_ignored_not_an_error():

@@ -16,6 +16,7 @@ from btnav.control.mppi.motion_models import (
     ControlConstraints,
     DiffDriveMotionModel,
     OmniMotionModel,
+    make_motion_model,
     predict_one,
 )
 from btnav.costmap.cost_values import NO_INFORMATION
@@ -73,8 +74,8 @@ def _predict_broadcast(model, u, v, speed):
 
 def test_predict_and_constraints_match_the_broadcast_limits():
     for model in (
-        DiffDriveMotionModel(ControlConstraints(), 0.05),
-        OmniMotionModel(ControlConstraints(ax_min=-2.0, ay_min=-1.0), 0.05),
+        make_motion_model(DiffDriveMotionModel, ControlConstraints(), 0.05),
+        make_motion_model(OmniMotionModel, ControlConstraints(ax_min=-2.0, ay_min=-1.0), 0.05),
     ):
         C = model.channels
         u = RNG.normal(0.0, 0.6, (56, C, 300)).astype(np.float32)
@@ -93,7 +94,7 @@ def test_predict_and_constraints_match_the_broadcast_limits():
 
 
 def test_predict_one_cut_short_is_the_prefix():
-    model = DiffDriveMotionModel(ControlConstraints(), 0.05)
+    model = make_motion_model(DiffDriveMotionModel, ControlConstraints(), 0.05)
     cs = RNG.normal(0.0, 0.5, (56, 3)).astype(np.float32)
     full = predict_one(model, cs, (0.2, 0.0, -0.3))
     for n in (1, 2, 40, 56):

@@ -15,7 +15,7 @@ from ...plugins import register
 from ..controller import Controller
 from ..exceptions import InvalidPath
 from .critic_function import CriticFunction
-from .motion_models import MOTION_MODELS, AckermannMotionModel, ControlConstraints, MotionModel
+from .motion_models import ControlConstraints, MotionModel, make_motion_model
 from .optimizer import Optimizer, OptimizerSettings
 from .params import MPPIParams, critic_class
 from .path_pruning import PathPruner
@@ -90,11 +90,8 @@ class MPPIController(Controller):
         self._last_cmd = Twist()
 
     def _make_model(self, constraints: ControlConstraints) -> MotionModel:
-        section = self.params.model_section()
-        cls = MOTION_MODELS[section.plugin]
-        if cls is AckermannMotionModel:
-            return AckermannMotionModel(constraints, self.params.model_dt, section.min_turning_r)
-        return cls(constraints, self.params.model_dt)
+        choice = self.params.model_section()
+        return make_motion_model(choice.cls, constraints, self.params.model_dt, choice.params)
 
     # -- nav2_core::Controller ------------------------------------------------------------
 

@@ -14,6 +14,10 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import Field
+
+from ...params.schema import ParamsModel
+from ...plugins import Plugin, register
 
 F32 = NDArray[np.float32]
 
@@ -33,13 +37,19 @@ class ControlConstraints:
     az_max: float = 3.5
 
 
-class MotionModel:
+class MotionModel(Plugin):
     """Differential drive by default: vx and wz, no lateral speed."""
+
+    class Params(ParamsModel):
+        pass
 
     holonomic = False
     min_turning_r: float | None = None
+    c: ControlConstraints
+    dt: float
 
-    def __init__(self, constraints: ControlConstraints, model_dt: float) -> None:
+    def configure(self, constraints: ControlConstraints, model_dt: float) -> None:  # type: ignore[override]
+        """The controller's velocity and acceleration limits and its rollouts' time step."""
         self.c = constraints
         self.dt = model_dt
         self._accel_cache: tuple[Any, tuple[F32, F32], bool] | None = None
@@ -137,22 +147,28 @@ def predict_one(
     return out[0], out[1], out[2]
 
 
+@register("motion_model", "mppi::DiffDriveMotionModel")
 class DiffDriveMotionModel(MotionModel):
     pass
 
 
+@register("motion_model", "mppi::OmniMotionModel")
 class OmniMotionModel(MotionModel):
     holonomic = True
 
 
+@register("motion_model", "mppi::AckermannMotionModel")
 class AckermannMotionModel(MotionModel):
     """Car-like: |wz| <= |vx| / min_turning_r (no turning on the spot)."""
 
-    def __init__(
-        self, constraints: ControlConstraints, model_dt: float, min_turning_r: float
-    ) -> None:
-        super().__init__(constraints, model_dt)
-        self.min_turning_r = min_turning_r
+    class Params(MotionModel.Params):
+        min_turning_r: float = Field(0.2, gt=0.0, description="the tightest turn's radius, m")
+
+    params: Params
+
+    @property
+    def min_turning_r(self) -> float:  # type: ignore[override]
+        return float(self.params.min_turning_r)
 
     def apply_constraints(self, u: F32) -> None:
         super().apply_constraints(u)
@@ -160,12 +176,16 @@ class AckermannMotionModel(MotionModel):
         np.clip(u[:, WZ], -limit, limit, out=u[:, WZ])
 
 
-MOTION_MODELS = {
-    "mppi::DiffDriveMotionModel": DiffDriveMotionModel,
-    "mppi::OmniMotionModel": OmniMotionModel,
-    "mppi::AckermannMotionModel": AckermannMotionModel,
-}
-#: Nav2's older spelling: `motion_model: DiffDrive` with no plugin section.
+def make_motion_model(
+    cls: type[MotionModel], constraints: ControlConstraints, model_dt: float, params: Any = None
+) -> MotionModel:
+    """A motion model built and configured, as the controller makes its own."""
+    model = cls(cls.plugin_name, params)
+    model.configure(constraints, model_dt)
+    return model
+
+
+#: Nav2 Jazzy's spelling: `motion_model: DiffDrive` with no plugin section.
 LEGACY_NAMES = {
     "DiffDrive": "mppi::DiffDriveMotionModel",
     "Omni": "mppi::OmniMotionModel",

@@ -9,7 +9,7 @@ by its entry in `critics` (validated by that critic's own `Params`), plus
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, NamedTuple
 
 import pydantic
 from pydantic import Field, field_validator, model_validator
@@ -27,7 +27,7 @@ from ...params.schema import (
     section_problem,
 )
 from .critic_function import NAMESPACE
-from .motion_models import LEGACY_NAMES, MOTION_MODELS
+from .motion_models import LEGACY_NAMES, MotionModel
 
 DEFAULT_CRITICS = [
     "ConstraintCritic",
@@ -48,9 +48,33 @@ DEFAULT_SECTION_PLUGINS = {
 }
 
 
-class MotionModelSection(ParamsModel):
-    plugin: one_of(*MOTION_MODELS)  # type: ignore[valid-type]
-    min_turning_r: float = Field(0.2, gt=0.0, description="m; Ackermann only")
+class MotionModelChoice(NamedTuple):
+    """The `motion_model` plugin and its section's params, validated by its own `Params`."""
+
+    cls: type[MotionModel]
+    params: Any
+
+
+def _motion_model(label: str, section: Any) -> MotionModelChoice:
+    """The section named by `motion_model` (`{plugin: mppi::..., <its params>}`)."""
+    known = registry.names("motion_model")
+    if not isinstance(section, Mapping) or "plugin" not in section:
+        raise FieldProblem(
+            (label,), f"section '{label}' names its motion model plugin ({', '.join(known)})"
+        )
+    body = dict(section)
+    plugin = body.pop("plugin")
+    if not isinstance(plugin, str) or not registry.is_registered("motion_model", plugin):
+        raise FieldProblem(
+            (label, "plugin"),
+            f"unknown motion model plugin {plugin!r}; known: {', '.join(known)}",
+            suggestion=best_match(str(plugin), [n.replace("/", "::") for n in known]),
+        )
+    cls = registry.lookup("motion_model", plugin)
+    try:
+        return MotionModelChoice(cls, cls.Params.model_validate(body))
+    except pydantic.ValidationError as exc:
+        raise section_problem(exc, cls.Params, label, lambda loc: (label, *loc)) from None
 
 
 class TrajectoryValidatorParams(ParamsModel):
@@ -97,7 +121,7 @@ class MPPIParams(ParamsModel):
     regenerate_noises: bool = False
     retry_attempt_limit: int = Field(1, ge=0)
     motion_model: str = "diff_drive"
-    motion_model_section: MotionModelSection | None = None
+    motion_model_section: Any = None
     critics: Names = Field(default_factory=lambda: list(DEFAULT_CRITICS))
     critic_sections: dict[str, Any] = named_sections("critics")
     unlisted_critic_sections: dict[str, Any] = Field(
@@ -141,15 +165,17 @@ class MPPIParams(ParamsModel):
         if isinstance(name, str) and name not in LEGACY_NAMES and name not in cls.model_fields:
             out = dict(data)
             if name in out:
-                out["motion_model_section"] = out.pop(name)
+                out["motion_model_section"] = _motion_model(name, out.pop(name))
             elif name in DEFAULT_SECTION_PLUGINS:
-                out["motion_model_section"] = {"plugin": DEFAULT_SECTION_PLUGINS[name]}
+                section = {"plugin": DEFAULT_SECTION_PLUGINS[name]}
+                out["motion_model_section"] = _motion_model(name, section)
             else:
                 sections = [str(k) for k, v in data.items() if isinstance(v, Mapping)]
+                known = ", ".join(registry.names("motion_model"))
                 raise FieldProblem(
                     "motion_model",
                     f"motion_model '{name}' names no section '{name}:' with its plugin "
-                    f"({', '.join(MOTION_MODELS)}); or write one of {', '.join(LEGACY_NAMES)}",
+                    f"({known}); or write one of {', '.join(LEGACY_NAMES)}",
                     suggestion=best_match(
                         name, [*sections, *DEFAULT_SECTION_PLUGINS, *LEGACY_NAMES]
                     ),
@@ -172,10 +198,10 @@ class MPPIParams(ParamsModel):
                 self.critic_sections[name] = _validate_critic(name, {})
         return self
 
-    def model_section(self) -> MotionModelSection:
+    def model_section(self) -> MotionModelChoice:
         if self.motion_model in LEGACY_NAMES:
-            return MotionModelSection(plugin=LEGACY_NAMES[self.motion_model])
-        assert self.motion_model_section is not None
+            return _motion_model(self.motion_model, {"plugin": LEGACY_NAMES[self.motion_model]})
+        assert isinstance(self.motion_model_section, MotionModelChoice)
         return self.motion_model_section
 
 
