@@ -227,3 +227,31 @@ def test_a_file_given_by_set_is_relative_to_the_current_directory(tmp_path, monk
     err = error_of(TOUR, overrides={"mission.params": "params/nav2_params_dwb.yaml"})
     assert err.file == "--set mission.params=params/nav2_params_dwb.yaml"
     assert str(tmp_path / "params" / "nav2_params_dwb.yaml") in str(err)
+
+
+def test_a_misspelt_localization_names_the_closest(tmp_path):
+    err = error_of(write_mission(tmp_path, localization="acml", task={"navigate_to_pose": [3, 2]}))
+    assert err.key == "localization" and err.suggestion == "amcl" and err.line is not None
+
+
+USER_LOCALIZER = '''
+from btnav.localization.ground_truth import GroundTruthLocalizer
+from btnav.plugins import register
+
+
+@register("localizer", "my_pkg/OracleLocalizer")
+class OracleLocalizer(GroundTruthLocalizer):
+    """A user's localiser: here the ground truth under another name."""
+'''
+
+
+def test_a_users_localizer_from_the_missions_plugins_is_a_peer_of_amcl(tmp_path):
+    (tmp_path / "oracle.py").write_text(USER_LOCALIZER)
+    path = write_mission(
+        tmp_path,
+        localization="my_pkg/OracleLocalizer",
+        plugins=["oracle.py"],
+        task={"navigate_to_pose": [3, 2]},
+    )
+    nav = Mission.load(path).navigator()
+    assert type(nav.runtime.localizer).__name__ == "OracleLocalizer"

@@ -32,7 +32,7 @@ from ..navigators.navigator import BasicNavigator
 from ..params.loader import ROS_PARAMETERS, load_params
 from ..params.paramsfile import ParamsFile
 from ..params.updates import _override_target, apply_overrides
-from ..plugins import load_plugins, names
+from ..plugins import is_registered, load_plugins, names
 from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
@@ -40,8 +40,8 @@ from .errors import MissionError
 from .outputs import OUTPUT_NEEDS, check_outputs
 from .param_frames import check_frames
 from .spec import (
-    SLAM,
     MissionSpec,
+    builds_map,
     load_mission_spec,
     mission_place,
     override_origins,
@@ -183,7 +183,7 @@ class Mission:
                 warnings.warn(warning, stacklevel=2)
             if spec.localization == "amcl":
                 _check_amcl_start(spec, world, params, grid, map_file, where, changed)
-        elif spec.localization not in SLAM:
+        elif not builds_map(spec.localization):
             raise MissionError(
                 f"localization '{spec.localization}' needs a map; give `map:` "
                 "(or use localization: slam to make one)",
@@ -467,10 +467,22 @@ def _check_output_needs(spec: MissionSpec, where: Any) -> None:
 
 
 def _check_localization(spec: MissionSpec, where: Any) -> None:
-    kind = "slam" if spec.localization in SLAM else "localizer"
-    if spec.localization not in names(kind):
-        have = ", ".join(names("localizer") + names("slam")) or "none"
+    """`localization:` names a registered localiser or SLAM plugin (a mission plugin's
+    too); exploring needs one whose map grows."""
+    name = spec.localization
+    if not (is_registered("localizer", name) or is_registered("slam", name)):
+        have = names("localizer") + names("slam")
         raise MissionError(
-            f"localization '{spec.localization}' is not available yet in btnav (it has: {have})",
+            f"unknown localization '{name}'; btnav has: {', '.join(have)} "
+            "(or register a localizer plugin and list it under plugins:)",
+            suggestion=best_match(
+                name, names("localizer", aliases=True) + names("slam", aliases=True)
+            ),
+            **where("localization"),
+        )
+    if spec.task.kind == "explore" and not builds_map(name):
+        raise MissionError(
+            f"exploring needs a map that grows as the robot drives: localization: slam "
+            f"(or cartographer), not {name}",
             **where("localization"),
         )

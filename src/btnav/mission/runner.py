@@ -26,7 +26,7 @@ from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission
 from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin, start_outputs
 from .report import RunReport
-from .spec import SLAM
+from .spec import builds_map
 from .trajectory import TrajectoryRecorder
 
 
@@ -166,6 +166,8 @@ def build_report(
         outputs=[f for name in outputs for f in output_files(name)],
         contacts=[c.to_dict() for c in nav.world.contacts],
         explored_area=(
-            nav.stack.explore_server.explored_area() if mission.spec.localization in SLAM else None
+            nav.stack.explore_server.explored_area()
+            if builds_map(mission.spec.localization)
+            else None
         ),
     )

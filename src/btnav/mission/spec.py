@@ -29,7 +29,7 @@ import os
 from collections.abc import Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from pydantic import AfterValidator, BeforeValidator, Field, model_validator
 
@@ -37,6 +37,7 @@ from ..core.errors import BtnavError
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import YamlMap, line_at, load_yaml
 from ..params.tree import copy_tree, set_path
+from ..plugins import is_registered
 from ..sim.world_spec import OdometrySpec
 from .errors import MissionError
 from .outputs import DEFAULT_OUTPUTS
@@ -66,8 +67,13 @@ def _drive_command(v: tuple[float, float, float]) -> tuple[float, float, float]:
 
 
 DriveCommand = Annotated[tuple[float, float, float], AfterValidator(_drive_command)]
-#: Localisers whose map grows as the robot drives: exploring needs one.
+#: btnav's localisers whose map grows as the robot drives: exploring needs one.
 SLAM = ("slam", "cartographer")
+
+
+def builds_map(localization: str) -> bool:
+    """Whether the localiser is SLAM (a `slam` plugin): its map grows as the robot drives."""
+    return localization in SLAM or is_registered("slam", localization)
 
 
 class ExploreTask(StrictModel):
@@ -122,7 +128,9 @@ class MissionSpec(StrictModel):
     world: str = Field(min_length=1)
     params: str | None = None
     map: str | None = None
-    localization: Literal["amcl", "slam", "cartographer", "ground_truth"] = "ground_truth"
+    #: Any registered `localizer` or `slam` plugin (amcl, ground_truth, slam,
+    #: cartographer, or a user's: checked once the mission's `plugins:` are loaded).
+    localization: str = Field("ground_truth", min_length=1, max_length=200)
     #: Cartographer's options file for `localization: cartographer` (relative to the
     #: mission; default: btnav's params/cartographer_2d.lua).
     cartographer_config: str | None = None
@@ -237,7 +245,8 @@ def load_mission_spec(
 
 
 def _check_task(spec: MissionSpec, doc: Any, file: str, changed: Mapping[str, str]) -> None:
-    if spec.task.kind == "explore" and spec.localization not in SLAM:
+    # A name no plugin has yet may be a mission plugin's: the mission checks it once loaded.
+    if spec.task.kind == "explore" and is_registered("localizer", spec.localization):
         key = "task.explore"
         origin = set_by("localization", changed) or set_by(key, changed)
         raise MissionError(

@@ -46,6 +46,7 @@ from ..nav.teleop import DriveServer
 from ..params.loader import load_params
 from ..params.map_io import MapSaverParams
 from ..params.paramsfile import ParamsFile, ServerParams
+from ..plugins import is_registered
 from ..sim.world import World
 from ..slam.slam_toolbox import default_slam_params
 from .bt_navigator import BtNavigator
@@ -102,7 +103,7 @@ class BasicNavigator:
             model = default_slam_params()
         if localization == "cartographer":  # its .lua, not a params-file section
             model = slam_config
-        kind = "slam" if localization in ("slam", "cartographer") else "localizer"
+        kind = "slam" if is_registered("slam", localization) else "localizer"
         rt.use_localizer(localization, model, kind=kind)
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)
