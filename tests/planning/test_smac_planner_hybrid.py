@@ -1,0 +1,110 @@
+"""SmacPlannerHybrid: paths a car can drive, judged by geometry on real and hand-made costmaps."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from btnav.core.geometry import Pose2D
+from btnav.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from btnav.costmap.costmap_2d import Costmap2D
+from btnav.maps import load_map
+from btnav.planning.exceptions import (
+    GoalOccupied,
+    NoValidPathCouldBeFound,
+    StartOccupied,
+    StartOutsideMapBounds,
+)
+from btnav.planning.smac_planner_hybrid import SmacPlannerHybrid, max_curvature
+
+from .conftest import inflate
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def office() -> Costmap2D:
+    """btnav's small office map, inflated as Nav2's default inflation layer would."""
+    grid = load_map(REPO / "maps" / "small_office.yaml")
+    costs = np.where(grid.data >= 65, 254, np.where(grid.data < 0, 255, 0)).astype(np.uint8)
+    costs = inflate(costs, grid.resolution, 0.22, 0.55, 3.0)
+    return Costmap2D(costs, grid.resolution, grid.origin.x, grid.origin.y)
+
+
+def corridor(width_m: float = 0.8) -> Costmap2D:
+    """A straight corridor along x, too narrow for a car of radius 0.5 m to turn round in."""
+    res = 0.05
+    costs = np.full((60, 200), 254, np.uint8)
+    half = int(width_m / res / 2)
+    costs[30 - half : 30 + half, 2:198] = 0
+    return Costmap2D(costs, res, 0.0, 0.0)
+
+
+def planner(**params) -> SmacPlannerHybrid:
+    return SmacPlannerHybrid("GridBased", SmacPlannerHybrid.Params(**params))
+
+
+def assert_drivable(path, costmap: Costmap2D, goal: Pose2D, radius: float) -> None:
+    poses = path.poses
+    assert np.all(costmap.cost_at(poses[:, :2]) < INSCRIBED_INFLATED_OBSTACLE)
+    assert np.hypot(*(poses[-1, :2] - (goal.x, goal.y))) < 1e-6
+    assert abs(np.angle(np.exp(1j * (poses[-1, 2] - goal.yaw)))) < 1e-6
+    # No turn tighter than the radius (the smoother's result is kept only if so).
+    assert max_curvature(poses) <= 1.0 / radius * 1.05
+
+
+@pytest.mark.parametrize("model", ["DUBIN", "REEDS_SHEPP"])
+@pytest.mark.parametrize(("start", "goal"), [((1, 1, 0), (6, 3, 3.14)), ((1, 1, 0), (10, 6, 1.57))])
+def test_office_paths_are_collision_free_end_on_the_goal_and_respect_the_turning_radius(
+    office, model, start, goal
+):
+    p = planner(motion_model_for_search=model, minimum_turning_radius=0.4)
+    path = p.create_plan(Pose2D(*start), Pose2D(*goal), office)
+    assert_drivable(path, office, Pose2D(*goal), 0.4)
+    length = np.hypot(*np.diff(path.poses[:, :2], axis=0).T).sum()
+    assert length >= np.hypot(goal[0] - start[0], goal[1] - start[1])
+
+
+def test_reeds_shepp_backs_into_a_goal_behind_where_a_dubins_car_cannot_turn():
+    cm = corridor()
+    start, goal = Pose2D(6.0, 1.5, 0.0), Pose2D(3.0, 1.5, 0.0)  # 3 m straight behind
+    path = planner(motion_model_for_search="REEDS_SHEPP", minimum_turning_radius=0.5).create_plan(
+        start, goal, cm
+    )
+    assert_drivable(path, cm, goal, 0.5)
+    heading = np.stack([np.cos(path.poses[:-1, 2]), np.sin(path.poses[:-1, 2])], axis=1)
+    motion = np.diff(path.poses[:, :2], axis=0)
+    assert np.all(np.sum(heading * motion, axis=1) <= 1e-9)  # it backs all the way
+    with pytest.raises(NoValidPathCouldBeFound):  # a forward-only car has no way back
+        planner(minimum_turning_radius=0.5, max_iterations=20000).create_plan(start, goal, cm)
+
+
+def test_a_polygon_footprint_from_the_costmap_server_is_checked_not_just_its_centre():
+    cm = corridor(width_m=1.0)
+    start, goal = Pose2D(2.0, 1.5, 0.0), Pose2D(8.0, 1.5, 0.0)
+    wide = np.array([[-0.2, -0.6], [0.6, -0.6], [0.6, 0.6], [-0.2, 0.6]])  # 1.2 m wide
+    p = planner()
+    p.configure(SimpleNamespace(use_radius=False, footprint=wide, circumscribed_cost=lambda: 0.0))
+    with pytest.raises(StartOccupied):
+        p.create_plan(start, goal, cm)
+    narrow = wide * [1.0, 0.5]  # 0.6 m wide: fits
+    p.configure(SimpleNamespace(use_radius=False, footprint=narrow, circumscribed_cost=lambda: 0.0))
+    assert_drivable(p.create_plan(start, goal, cm), cm, goal, 0.4)
+
+
+def test_start_and_goal_problems_are_nav2s_error_codes():
+    cm = corridor()
+    p = planner()
+    with pytest.raises(StartOutsideMapBounds):
+        p.create_plan(Pose2D(-1.0, 1.5, 0.0), Pose2D(3.0, 1.5, 0.0), cm)
+    with pytest.raises(GoalOccupied):
+        p.create_plan(Pose2D(3.0, 1.5, 0.0), Pose2D(3.0, 0.2, 0.0), cm)
+
+
+def test_the_same_request_gives_the_same_path_bit_for_bit(office):
+    a = planner().create_plan(Pose2D(1, 1, 0), Pose2D(6, 3, 3.14), office)
+    b = planner().create_plan(Pose2D(1, 1, 0), Pose2D(6, 3, 3.14), office)
+    assert a.poses.tobytes() == b.poses.tobytes()
