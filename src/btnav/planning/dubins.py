@@ -17,10 +17,15 @@ from btnav.core import fmath
 from btnav.core.geometry import TWO_PI
 
 WORDS = ("LSL", "RSR", "LSR", "RSL", "RLR", "LRL")
+#: How far a square or cosine may round past its bound: tangent circles are a solution.
+_TOL = 1e-10
 
 
 def _mod2pi(a: Any) -> Any:
-    return np.mod(a, TWO_PI)
+    """a mod 2 pi in [0, 2 pi), a hair under 2 pi taken as 0: a turn of -1e-17 is rounding,
+    not a full circle."""
+    m = np.mod(a, TWO_PI)
+    return np.where(m > TWO_PI - _TOL, 0.0, m)
 
 
 @dataclass(frozen=True)
@@ -77,13 +82,19 @@ def all_words(
             -2.0 + d * d + 2.0 * cab - 2.0 * d * (sa + sb),  # RSL
         ]
     )
-    straight_ok = p_sq >= 0.0
-    p = np.sqrt(np.where(straight_ok, p_sq, 0.0))
-    heading = fmath.arctan2(
-        np.array([cb - ca, ca - cb, -ca - cb, ca + cb]),
-        np.array([d + sa - sb, d - sa + sb, d + sa + sb, d - sa - sb]),
-    )
+    straight_ok = p_sq >= -_TOL
+    p = np.sqrt(np.maximum(p_sq, 0.0))
+    across = np.array([cb - ca, ca - cb, -ca - cb, ca + cb])  # between the circles' centres
+    along = np.array([d + sa - sb, d - sa + sb, d + sa + sb, d - sa - sb])
+    heading = fmath.arctan2(across, along)
     heading[2:] -= fmath.arctan2(np.array([-2.0, 2.0]), p[2:])  # the cross tangents' tilt
+    # LSL and RSR: the straight is the centres' distance (hypot, not the sqrt of a square
+    # that cancels). With the goal on the start's circle it has no direction, its bearing
+    # is noise: the whole turn goes last, not split in two with a full circle added.
+    p[:2] = fmath.hypot(along[:2], across[:2])
+    one_circle = p[:2] < _TOL
+    p[:2][one_circle] = 0.0
+    heading[:2][one_circle] = a
     sign_a = np.array([-1.0, 1.0, -1.0, 1.0])
     t = _mod2pi(sign_a * (a - heading))
     q = _mod2pi(np.array([b - heading[0], -b + heading[1], -b + heading[2], b - heading[3]]))
@@ -95,7 +106,7 @@ def all_words(
             (6.0 - d * d + 2.0 * cab + 2.0 * d * (sb - sa)) / 8.0,
         ]
     )
-    turn_ok = np.abs(cos_mid) <= 1.0
+    turn_ok = np.abs(cos_mid) <= 1.0 + _TOL
     c = np.clip(cos_mid, -1.0, 1.0)
     p_turn = _mod2pi(TWO_PI - fmath.arctan2(np.sqrt(1.0 - c * c), c))
     t_turn = _mod2pi(

@@ -32,6 +32,7 @@ so a plan does not depend on the machine's speed.
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 from collections.abc import Callable
 from typing import Any, Literal
@@ -356,7 +357,7 @@ class SmacPlannerHybrid(GlobalPlanner):
         h0 = h(sx, sy)
         # Equal totals go to the node nearer the goal, so plateaus are crossed, not flooded.
         queue: list[tuple[float, float, int]] = [(h0, h0, 0)]
-        analytic_countdown = closest = math.inf
+        analytic_countdown, closest = 0, math.inf  # the first node tries the goal at once
         best_approach: tuple[float, int] | None = None
         approach_iterations = 0
         self.expansions = 0
@@ -371,8 +372,12 @@ class SmacPlannerHybrid(GlobalPlanner):
             if key == goal_key:
                 return self._backtrack(nodes, i, bin_size)
             here = h(x, y)
-            if here <= tolerance and (best_approach is None or here < best_approach[0]):
-                best_approach = (here, i)
+            if here <= tolerance:
+                # Within tolerance means the car could still get there: by a curve, not
+                # the straight line (a node on the goal facing away is not near it).
+                gap = self._curve_length(costmap, (x, y, b * bin_size), goal)
+                if gap <= tolerance and (best_approach is None or gap < best_approach[0]):
+                    best_approach = (gap, i)
             if best_approach is not None:
                 approach_iterations += 1
                 if approach_iterations >= p.max_on_approach_iterations:
@@ -384,12 +389,13 @@ class SmacPlannerHybrid(GlobalPlanner):
             desired = max(
                 int(closest / p.analytic_expansion_ratio), math.ceil(p.analytic_expansion_ratio)
             )
-            analytic_countdown = min(analytic_countdown, desired) - 1
+            analytic_countdown = min(analytic_countdown, desired)
             if analytic_countdown <= 0:
                 analytic_countdown = desired
-                curve = self._analytic(costmap, flat, (x, y, b * bin_size), goal)
-                if curve is not None:
-                    return self._backtrack(nodes, i, bin_size) + curve
+                found = self._analytic_from(costmap, flat, nodes, i, goal, bin_size)
+                if found is not None:
+                    return found
+            analytic_countdown -= 1
             cx = [x + d for d in table.dx[b]]
             cy = [y + d for d in table.dy[b]]
             cb = [(b + t) % bins for t in table.turns]
@@ -426,18 +432,64 @@ class SmacPlannerHybrid(GlobalPlanner):
             f"{' (max_iterations)' if self.expansions >= p.max_iterations else ''}"
         )
 
+    def _analytic_from(
+        self,
+        costmap: Costmap2D,
+        flat: bytes,
+        nodes: list[tuple[float, float, int, float, int, int]],
+        i: int,
+        goal: tuple[float, float, float],
+        bin_size: float,
+    ) -> list[tuple[float, float, float]] | None:
+        """The path through node `i` and a curve to the goal, refined as Nav2's
+        refineAnalyticPath does: the curve is tried from every fifth ancestor back (eight
+        times at most) and kept from the earliest that is free with no more cusps, so the
+        search's first few steps do not leave wiggles a curve could have drawn smooth."""
+        found = self._analytic(costmap, flat, (*nodes[i][:2], nodes[i][2] * bin_size), goal)
+        if found is None:
+            return None
+        best, cusps = i, found[1]
+        test = i
+        for _ in range(8):
+            for _ in range(5):
+                test = nodes[test][4] if test >= 0 else -1
+            if test < 0:
+                break
+            x, y, b = nodes[test][:3]
+            refined = self._analytic(costmap, flat, (x, y, b * bin_size), goal)
+            if refined is None:
+                break
+            if refined[1] <= cusps:
+                best, found, cusps = test, refined, refined[1]
+        return self._backtrack(nodes, best, bin_size) + found[0]
+
+    def _curve(
+        self, costmap: Costmap2D, pose: tuple[float, float, float], goal: tuple[float, float, float]
+    ) -> Any:
+        """The shortest Dubins or Reeds-Shepp curve between two poses in cells."""
+        p = self.params
+        r = p.minimum_turning_radius / costmap.resolution
+        curves = reeds_shepp if p.motion_model_for_search == "REEDS_SHEPP" else dubins
+        return curves.shortest_path(pose, goal, r)
+
+    def _curve_length(
+        self, costmap: Costmap2D, pose: tuple[float, float, float], goal: tuple[float, float, float]
+    ) -> float:
+        curve = self._curve(costmap, pose, goal)
+        return math.inf if curve is None else float(curve.length)
+
     def _analytic(
         self,
         costmap: Costmap2D,
         flat: bytes,
         pose: tuple[float, float, float],
         goal: tuple[float, float, float],
-    ) -> list[tuple[float, float, float]] | None:
-        """A collision-free Dubins or Reeds-Shepp curve to the goal (cells), or None."""
+    ) -> tuple[list[tuple[float, float, float]], int] | None:
+        """A collision-free Dubins or Reeds-Shepp curve to the goal (cells) and its number
+        of direction changes, or None."""
         p = self.params
         r = p.minimum_turning_radius / costmap.resolution
-        curves = reeds_shepp if p.motion_model_for_search == "REEDS_SHEPP" else dubins
-        curve = curves.shortest_path(pose, goal, r)
+        curve = self._curve(costmap, pose, goal)
         if curve is None or curve.length * costmap.resolution > p.analytic_expansion_max_length:
             return None
         samples = curve.sample(pose, SQRT2)[1:]
@@ -455,7 +507,9 @@ class SmacPlannerHybrid(GlobalPlanner):
             near = curve.length < 2.0 * math.pi * r
             if not (near and p.analytic_expansion_max_cost_override):
                 return None
-        return [(a, b, c) for a, b, c in zip(sx, sy, syaw, strict=True)]
+        forward = [length > 0.0 for length in curve.lengths if length != 0.0]
+        cusps = sum(a != b for a, b in itertools.pairwise(forward))
+        return [(a, b, c) for a, b, c in zip(sx, sy, syaw, strict=True)], cusps
 
     @staticmethod
     def _backtrack(
