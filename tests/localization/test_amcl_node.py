@@ -84,7 +84,8 @@ def test_initial_pose_from_params_first_map_only_and_reset():
             "initial_pose": {"x": 2.0, "y": 1.5, "z": 0.0, "yaw": 0.5},
         }
     )
-    amcl = Amcl(rt, params)
+    amcl = Amcl("amcl", params)
+    amcl.configure(rt)
     assert amcl.initial_pose_is_known
     assert np.allclose(amcl.pf.poses, [2.0, 1.5, 0.5])  # zero covariance: all on the pose
     first = nav.stack.map_server.map
@@ -95,8 +96,10 @@ def test_initial_pose_from_params_first_map_only_and_reset():
     amcl.reset()
     assert amcl.initial_pose_is_known and np.allclose(amcl.pf.poses[:, :2], [2.0, 1.5])
     forget = Amcl(
-        rt, params.model_copy(update={"always_reset_initial_pose": True, "set_initial_pose": False})
+        "amcl",
+        params.model_copy(update={"always_reset_initial_pose": True, "set_initial_pose": False}),
     )
+    forget.configure(rt)
     forget.set_initial_pose(Pose2D(1.0, 1.0, 0.0))
     forget.reset()
     assert not forget.initial_pose_is_known

@@ -112,9 +112,9 @@ class Judge:
 def passive_amcl(nav: Navigator, **params) -> Amcl:
     base = nav.stack.params.server("amcl").model
     amcl = Amcl(
-        nav.runtime,
-        type(base).model_validate({**base.model_dump(), "tf_broadcast": False, **params}),
+        "amcl", type(base).model_validate({**base.model_dump(), "tf_broadcast": False, **params})
     )
+    amcl.configure(nav.runtime)
     nav.stack.map_server.subscribe(amcl.set_map)
     nav.runtime.add(amcl, stage=Stage.LOCALIZATION)
     return amcl

@@ -9,7 +9,7 @@ from pydantic import Field
 from ..core.messages import Odometry, PoseWithCovariance
 from ..core.validation import StrictModel
 from ..plugins import register
-from .localizer import LocalizerContext, localizer_params
+from .localizer import Localizer, LocalizerContext
 
 
 class GroundTruthParams(StrictModel):
@@ -20,7 +20,7 @@ class GroundTruthParams(StrictModel):
 
 
 @register("localizer", "ground_truth")
-class GroundTruthLocalizer:
+class GroundTruthLocalizer(Localizer):
     """Publishes `map -> odom` so that `map -> base_footprint` is the world's true pose.
 
     `map -> odom` is corrected on every odometry message, before the sensors of the same
@@ -32,9 +32,11 @@ class GroundTruthLocalizer:
 
     Params = GroundTruthParams
 
-    def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        self.params = localizer_params(self.Params, params)
-        self.context = context
+    def __init__(self, name: str = "ground_truth", params: Any = None) -> None:
+        super().__init__(name, params)
+
+    def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        super().configure(context)
         self.rate = self.params.rate
         frames = context.frames
         for frame in (

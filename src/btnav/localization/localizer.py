@@ -1,11 +1,12 @@
 """The localiser contract, shared by every localiser and SLAM plugin.
 
 Localisers publish `map -> odom`. A localiser plugin (`@register("localizer", name)`,
-or `@register("slam", name)` for one that builds its map) is built as
-`cls(context, params)` and scheduled at its `rate` in the runtime's LOCALIZATION stage,
-before costmaps and servers. `context` is anything shaped like `LocalizerContext` (the
-`Runtime` is), so a localiser need not import the runtime. `params` is None for the
-defaults, a mapping validated by the plugin's `Params`, or a `Params` instance.
+or `@register("slam", name)` for one that builds its map) is built as every plugin is,
+`cls(name, params)`, then `configure(context)` hands it the runtime, and it is scheduled
+at its `rate` in the runtime's LOCALIZATION stage, before costmaps and servers.
+`context` is anything shaped like `LocalizerContext` (the `Runtime` is), so a localiser
+need not import the runtime. `params` is None for the defaults, a mapping validated by
+the plugin's `Params`, or a `Params` instance.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from ..core.clock import SimClock
 from ..core.frames import FrameTree
 from ..core.messages import LaserScan, Odometry
 from ..core.validation import StrictModel
+from ..plugins import Plugin
 from ..sim.world import World
 
 
@@ -35,6 +37,20 @@ class LocalizerContext(Protocol):
     latest_scan: LaserScan | None
 
     def subscribe(self, topic: str, callback: Any) -> None: ...
+
+
+class Localizer(Plugin):
+    """The base of `localizer` and `slam` plugins: the plugin contract, with the runtime
+    (a `LocalizerContext`) as what `configure` hands over, where a planner gets its
+    costmap server. Subclasses subscribe to scans and odometry in `configure`."""
+
+    context: LocalizerContext
+
+    def __init__(self, name: str, params: Any = None) -> None:
+        super().__init__(name, localizer_params(type(self).Params, params))
+
+    def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        self.context = context
 
 
 def localizer_params(cls: type[StrictModel], params: Any) -> Any:

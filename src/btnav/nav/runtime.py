@@ -263,13 +263,14 @@ class Runtime:
     def use_localizer(self, name: str, params: Any = None, *, kind: str = "localizer") -> Any:
         """Create the `localizer` (or `slam`) plugin `name` (e.g. "ground_truth") and schedule it.
 
-        Localiser plugins are built as `cls(runtime, params)`; `params` may be None
-        (defaults), a mapping (validated by the plugin's `Params`) or a `Params` model.
+        Built as every plugin is, `cls(name, params)`, then `configure(runtime)`; `params`
+        may be None (defaults), a mapping (validated by the plugin's `Params`) or a model.
         """
         cls = lookup(kind, name)
         if self.localizer is not None:
             self.remove(self.localizer)
-        self.localizer = cls(self, params)
+        self.localizer = cls(name, params)
+        self.localizer.configure(self)
         self.add(self.localizer, stage=Stage.LOCALIZATION)
         return self.localizer
 

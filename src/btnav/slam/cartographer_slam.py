@@ -44,7 +44,7 @@ from ..core.errors import BtnavWarning
 from ..core.geometry import Pose2D, compose_arrays, normalize_angle, relative_arrays
 from ..core.messages import LaserScan, PoseWithCovariance
 from ..core.resources import bundled_dir
-from ..localization.localizer import LocalizerContext
+from ..localization.localizer import Localizer, LocalizerContext
 from ..maps.occupancy_grid import OccupancyGrid
 from ..plugins import register
 from .cartographer_config import load_cartographer_config
@@ -337,14 +337,18 @@ def _config(params: Any) -> CartographerConfig:
 
 
 @register("slam", "cartographer", aliases=["cartographer_ros"])
-class CartographerSlam:
+class CartographerSlam(Localizer):
     """Maps while the robot drives, as cartographer_node does (see the module doc)."""
 
     rate = 20.0  # how often the latest scan is looked at; a 10 Hz lidar is never missed
 
-    def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        self.config = c = _config(params)
-        self.context = context
+    def __init__(self, name: str = "cartographer", params: Any = None) -> None:
+        self.name = name
+        self.params = self.config = _config(params)
+
+    def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        super().configure(context)
+        c = self.config
         f = c.frames
         frames = context.frames
         for key in ("map_frame", "tracking_frame", "published_frame"):

@@ -34,7 +34,7 @@ from ..core.errors import BtnavWarning, ParamsError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan, PoseWithCovariance
 from ..core.resources import bundled_dir
-from ..localization.localizer import LocalizerContext, localizer_params
+from ..localization.localizer import Localizer, LocalizerContext
 from ..maps.occupancy_grid import OccupancyGrid
 from ..params.check import ParamsCheck
 from ..params.loader import load_params
@@ -71,15 +71,18 @@ def warn_ignored(params: ParamsFile, stacklevel: int = 2) -> None:
 
 
 @register("slam", "slam", aliases=["slam_toolbox", "slam_toolbox::AsyncSlamToolbox"])
-class SlamToolbox:
+class SlamToolbox(Localizer):
     """Maps while the robot drives and localises it on that map (see the module doc)."""
 
     Params = SlamToolboxParams
     rate = 20.0  # how often the latest scan is looked at; a 10 Hz lidar is never missed
 
-    def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        p = self.params = localizer_params(self.Params, params)
-        self.context = context
+    def __init__(self, name: str = "slam_toolbox", params: Any = None) -> None:
+        super().__init__(name, params)
+
+    def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        super().configure(context)
+        p = self.params
         frames = context.frames
         for key in ("map_frame", "odom_frame", "base_frame"):
             frames.require(getattr(p, key), key=f"slam_toolbox.{key}")

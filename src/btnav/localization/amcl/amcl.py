@@ -1,7 +1,7 @@
 """The `amcl` localiser: nav2_amcl's AmclNode on btnav's runtime.
 
-Built as `Amcl(context, params)` with Nav2's `amcl:` section (`params.localization.
-AmclParams`); the map comes from map_server through `set_map(grid)` (the latched `map`
+Built as `Amcl(name, params)` with Nav2's `amcl:` section (`params.localization.
+AmclParams`), then `configure(context)` hands it the runtime; the map comes from map_server through `set_map(grid)` (the latched `map`
 topic: with `first_map_only` only the first is taken). On each new scan (`update`
 runs every physics step and acts when the lidar has published), as laserReceived:
 
@@ -39,7 +39,7 @@ from ...core.rng import stream
 from ...maps.occupancy_grid import OccupancyGrid
 from ...params.localization import AmclParams
 from ...plugins import register
-from ..localizer import LocalizerContext, localizer_params
+from ..localizer import Localizer, LocalizerContext
 from .laser_models import LASER_MODELS, LaserData, LaserModel
 from .likelihood_field import MapField
 from .motion_models import MotionModel, make_motion_model
@@ -66,14 +66,17 @@ def _cov3(covariance: Any) -> F64:
 
 
 @register("localizer", "amcl", aliases=("nav2_amcl::AmclNode", "nav2_amcl/AmclNode"))
-class Amcl:
+class Amcl(Localizer):
     """Adaptive Monte Carlo localisation on a known map (see the module doc)."""
 
     Params = AmclParams
 
-    def __init__(self, context: LocalizerContext, params: Any = None) -> None:
-        p = self.params = localizer_params(self.Params, params)
-        self.context = context
+    def __init__(self, name: str = "amcl", params: Any = None) -> None:
+        super().__init__(name, params)
+
+    def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        super().configure(context)
+        p = self.params
         frames = context.frames
         for key in ("global_frame_id", "odom_frame_id", "base_frame_id"):
             frames.require(getattr(p, key), key=f"amcl.{key}")
