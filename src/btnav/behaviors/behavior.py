@@ -63,11 +63,11 @@ class BehaviorOutcome:
 class Behavior:
     """Base of every `behavior` plugin (nav2_behaviors::TimedBehavior).
 
-    Built as `cls(name, params, server=..., env=..., collision_checker=...)`:
-    `params` is the plugin's own `Params` (its section under behavior_server),
-    `server` the behavior_server's shared keys (cycle_frequency, frames,
-    simulate_ahead_time, rotational limits), `env` the robot (a Runtime), and
-    `collision_checker` a `CollisionChecker` on the local costmap, or None to skip
+    Built as every plugin is, `cls(name, params)` with the plugin's own `Params` (its
+    section under behavior_server); then, as nav2_behaviors' configure(), the server
+    hands over `configure(server, env, collision_checker)`: the behavior_server's
+    shared keys (cycle_frequency, frames, simulate_ahead_time, rotational limits), the
+    robot (a Runtime), and a `CollisionChecker` on the local costmap, or None to skip
     collision checks.
     """
 
@@ -79,29 +79,33 @@ class Behavior:
     class Params(ParamsModel):
         pass
 
-    def __init__(
-        self,
-        name: str,
-        params: Any = None,
-        *,
-        server: BehaviorServerParams | None = None,
-        env: BehaviorEnv,
-        collision_checker: CollisionChecker | None = None,
-    ) -> None:
+    #: The robot, handed over by `configure`.
+    env: BehaviorEnv
+
+    def __init__(self, name: str, params: Any = None) -> None:
         self.name = name
         if params is None:
             params = self.Params()
         elif not isinstance(params, self.Params):
             params = self.Params.model_validate(dict(params))
         self.params = params
-        self.server = server if server is not None else BehaviorServerParams()
-        self.env = env
-        self.collision_checker = collision_checker
+        self.server = BehaviorServerParams()
+        self.collision_checker: CollisionChecker | None = None
         self.start_time: float | None = None
         self.time_allowance = 0.0
         self.end_time: float | None = None
         #: The latest feedback (the server hands it to the goal's client).
         self.feedback: Any = None
+
+    def configure(
+        self,
+        server: BehaviorServerParams,
+        env: BehaviorEnv,
+        collision_checker: CollisionChecker | None = None,
+    ) -> None:
+        self.server = server
+        self.env = env
+        self.collision_checker = collision_checker
 
     # -- what behaviours implement ----------------------------------------------------
 

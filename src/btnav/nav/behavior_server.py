@@ -65,9 +65,8 @@ class BehaviorServer:
             if cls is None:
                 self.not_implemented.append(name)
                 continue
-            behavior = cls(
-                name, plugin_params, server=server, env=runtime, collision_checker=checker
-            )
+            behavior = cls(name, plugin_params)
+            behavior.configure(server, runtime, checker)
             self.behaviors[name] = behavior
             action = _ActionServerFor(behavior)
             self.servers[name] = action
