@@ -100,3 +100,35 @@ def test_laser_odometry_without_a_lidar_blames_the_mission(tmp_path: Path) -> No
         Mission.load(path).navigator()
     assert err.value.file == str(path) and err.value.line == line
     assert err.value.key == "odometry.source"
+
+
+RACECAR_MISSION = Path(__file__).resolve().parents[2] / "missions" / "racecar_parking.yaml"
+RACECAR_WORLD = RACECAR_MISSION.parents[1] / "worlds" / "racecar_street.yaml"
+
+
+@pytest.mark.parametrize("drive", ["ackermann", "omni", "diff_drive"])
+def test_laser_odometry_follows_every_drive(tmp_path: Path, drive: str) -> None:
+    """rf2o-style laser odometry needs nothing of the wheels: a car, an omni base and a
+    diff drive with useless wheel odometry all keep odom on the truth."""
+    world = yaml.safe_load(RACECAR_WORLD.read_text())
+    if drive != "ackermann":
+        world["robot"]["drive"] = drive
+    world["robot"]["odometry"] = {"noise": [2.0, 2.0, 2.0, 2.0], "rate": 50}
+    (tmp_path / "world.yaml").write_text(yaml.safe_dump(world, sort_keys=False))
+    doc = yaml.safe_load(RACECAR_MISSION.read_text())
+    path = write_mission(
+        tmp_path,
+        world=str(tmp_path / "world.yaml"),
+        params=str((RACECAR_MISSION.parent / doc["params"]).resolve()),
+        map=str((RACECAR_MISSION.parent / doc["map"]).resolve()),
+        odometry={"source": "laser"},
+        task={"navigate_to_pose": [6.5, 1.8, 0.0]},
+        time_limit=40,
+        outputs=["report", "trajectory"],
+    )
+    out = tmp_path / "out"
+    report = run_mission(Mission.load(path), out)
+    assert report.status == "succeeded", report.error_msg
+    assert read_report(out)["path_length"] > 3.0
+    errors = odom_errors(out / "trajectory.csv")
+    assert errors.max() < 0.05, f"odom {errors.max():.3f} m from the truth"
