@@ -1,3 +1,9 @@
 """Importing this module registers btnav's built-in planning plugins (entry point `btnav.plugins`)."""
 
-from . import navfn_planner, simple_smoother, smac_planner_hybrid  # noqa: F401
+from . import (  # noqa: F401
+    navfn_planner,
+    simple_smoother,
+    smac_planner_2d,
+    smac_planner_hybrid,
+    theta_star_planner,
+)
