@@ -157,6 +157,32 @@ class Costmap2D:
         self.origin_x += cell_ox * self.resolution
         self.origin_y += cell_oy * self.resolution
 
+    def grown_to_include(self, points: ArrayLike, margin: float) -> Costmap2D:
+        """This map, or a larger copy whose new cells are NO_INFORMATION, that holds every
+        world point with `margin` metres round it; the old cells keep their world places
+        (the growth is whole cells), so a plan on the copy is a plan on this map."""
+        xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        r = self.resolution
+        lo = np.floor((xy.min(axis=0) - margin - (self.origin_x, self.origin_y)) / r)
+        hi = np.ceil((xy.max(axis=0) + margin - (self.origin_x, self.origin_y)) / r)
+        grow_lo = np.maximum(-lo, 0).astype(int)  # cells added left / below
+        grow_hi = np.maximum(hi - (self.size_x, self.size_y), 0).astype(int)
+        if not (grow_lo.any() or grow_hi.any()):
+            return self
+        costs = np.pad(
+            self.costs,
+            ((grow_lo[1], grow_hi[1]), (grow_lo[0], grow_hi[0])),
+            constant_values=NO_INFORMATION,
+        )
+        return Costmap2D(
+            costs,
+            r,
+            self.origin_x - grow_lo[0] * r,
+            self.origin_y - grow_lo[1] * r,
+            self.frame_id,
+            self.default_value,
+        )
+
     def same_geometry(self, other: Costmap2D) -> bool:
         return (
             self.costs.shape == other.costs.shape

@@ -47,6 +47,12 @@ class PlannerServer(PluginServer):
     """planner_server: owns the planner plugins and the two planning actions."""
 
     kind = "planner"
+    #: Plan into unknown space beyond the global costmap when a goal lies outside it,
+    #: as if the map already reached the goal: set while SLAM builds the map, where
+    #: Nav2 fails the goal (navigation2 #3992; docs/decisions/0001).
+    grow_into_unknown: bool = False
+    #: How far round the start and goal the grown map reaches, metres.
+    unknown_margin: float = 1.0
 
     def action_servers(self) -> list[ActionServer[Any]]:
         self.to_pose: ActionServer[ComputePathToPoseGoal] = ActionServer(
@@ -72,7 +78,11 @@ class PlannerServer(PluginServer):
             )
         start_pose = self._in_global(start) if start is not None else self._robot_pose()
         goal_pose = self._in_global(goal)
-        path = planner.create_plan(start_pose, goal_pose, self.costmap.costmap, lambda: False)
+        costmap = self.costmap.costmap
+        if self.grow_into_unknown:
+            ends = [(start_pose.x, start_pose.y), (goal_pose.x, goal_pose.y)]
+            costmap = costmap.grown_to_include(ends, self.unknown_margin)
+        path = planner.create_plan(start_pose, goal_pose, costmap, lambda: False)
         if path is None or len(path) == 0:
             raise _PlanError("NO_VALID_PATH", f"planner '{planner.name}' returned an empty path")
         return Path(self.runtime.now, path.poses, self.costmap.global_frame)

@@ -113,6 +113,7 @@ class BasicNavigator:
         subscribe_map = getattr(rt.localizer, "subscribe_map", None)
         if subscribe_map is not None:  # SLAM's map goes where map_server's would
             subscribe_map(stack.map_server.load_map)
+            stack.planner_server.grow_into_unknown = True  # goals beyond the map so far
         bt = BtNavigator(rt, stack, pf, base_dir=FilePath.cwd())
         wf = rt.add(WaypointFollower(rt, pf))
         stack.servers["bt_navigator"] = bt
