@@ -52,6 +52,7 @@ from btnav.planning.navfn import navfn_costs  # noqa: E402
 from btnav.planning.navfn_planner import NavfnPlanner  # noqa: E402
 from btnav.planning.smac_planner_2d import SmacPlanner2D  # noqa: E402
 from btnav.planning.smac_planner_hybrid import SmacPlannerHybrid  # noqa: E402
+from btnav.planning.smac_planner_lattice import SmacPlannerLattice  # noqa: E402
 from btnav.planning.theta_star_planner import ThetaStarPlanner  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -189,6 +190,7 @@ def grid_planners(n: int) -> dict[str, float]:
         planner_row("smac_2d", SmacPlanner2D("smac_2d"), cm),
         planner_row("theta_star", ThetaStarPlanner("theta_star"), cm),
         planner_row("smac_hybrid", SmacPlannerHybrid("smac_hybrid"), cm),
+        planner_row("smac_lattice", SmacPlannerLattice("smac_lattice"), cm),
     ]
     requests = [(Pose2D(*cm.map_to_world(a)), Pose2D(*cm.map_to_world(b))) for a, b in pairs(cm, n)]
     warm = pairs(cm, 1)[0]
@@ -217,6 +219,7 @@ def grid_planners(n: int) -> dict[str, float]:
         print(f"target {what}: {value:.2f}x -> {'PASS' if value <= bound else 'FAIL'} (cold)")
     print("navfn_warm: same costmap as the last plan, its graph reused (a replanning server)")
     print("smac_hybrid: Nav2's defaults (DUBIN, 0.4 m radius), yaw 0 at both ends")
+    print("smac_lattice: Nav2's default lattice (Ackermann 0.5 m, 16 headings), yaw 0 at both ends")
     return mean
 
 

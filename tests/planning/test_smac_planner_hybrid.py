@@ -15,6 +15,8 @@ from btnav.maps import load_map
 from btnav.planning.exceptions import (
     GoalOccupied,
     NoValidPathCouldBeFound,
+    PlannerCancelled,
+    PlannerTimedOut,
     StartOccupied,
     StartOutsideMapBounds,
 )
@@ -108,3 +110,46 @@ def test_the_same_request_gives_the_same_path_bit_for_bit(office):
     a = planner().create_plan(Pose2D(1, 1, 0), Pose2D(6, 3, 3.14), office)
     b = planner().create_plan(Pose2D(1, 1, 0), Pose2D(6, 3, 3.14), office)
     assert a.poses.tobytes() == b.poses.tobytes()
+
+
+def test_a_polygon_start_on_an_inscribed_cell_still_plans():
+    """A polygon footprint may start on an inscribed cell, where the obstacle heuristic
+    (inscribed cells are its walls) cannot reach: the search must still run."""
+    costs = np.zeros((40, 120), np.uint8)
+    costs[24:, :] = 254
+    costs[20:24, :] = INSCRIBED_INFLATED_OBSTACLE  # a band along the wall
+    cm = Costmap2D(costs, 0.05, 0.0, 0.0)
+    small = np.array([[-0.04, -0.04], [0.04, -0.04], [0.04, 0.04], [-0.04, 0.04]])
+    p = planner()
+    p.configure(
+        SimpleNamespace(use_radius=False, footprint=small, circumscribed_cost=lambda: 253.0)
+    )
+    start, goal = Pose2D(1.0, 1.11, 0.0), Pose2D(4.0, 0.5, 0.0)
+    assert cm.cost_at(np.array([[start.x, start.y]]))[0] == INSCRIBED_INFLATED_OBSTACLE
+    path = p.create_plan(start, goal, cm)
+    assert np.hypot(*(path.poses[-1, :2] - (goal.x, goal.y))) < 1e-6
+    assert max_curvature(path.poses) <= 1.0 / 0.4 * 1.05
+
+
+def test_max_iterations_is_nav2s_timeout_and_a_cancel_stops_the_search(office):
+    start, goal = Pose2D(1, 1, 0), Pose2D(10, 6, 1.57)
+    with pytest.raises(PlannerTimedOut) as err:
+        planner(max_iterations=100).create_plan(start, goal, office)
+    assert err.value.error_code == 207  # ComputePathToPose's TIMEOUT, as Nav2 throws
+    with pytest.raises(PlannerCancelled):
+        planner().create_plan(start, goal, office, cancel_checker=lambda: True)
+
+
+def test_a_replan_after_the_costmap_changed_sees_the_change():
+    """The obstacle heuristic is reused between plans only while the costmap is the same."""
+    cm = Costmap2D(np.zeros((80, 160), np.uint8), 0.05, 0.0, 0.0)
+    p = planner()
+    start, goal = Pose2D(1.0, 2.0, 0.0), Pose2D(7.0, 2.0, 0.0)
+    first = p.create_plan(start, goal, cm)
+    assert np.ptp(first.poses[:, 1]) < 0.05  # straight along the middle
+    cm.costs[10:70, 78:84] = 254  # a wall across the middle, open at both ends
+    second = p.create_plan(start, goal, cm)
+    assert_drivable(second, cm, goal, 0.4)
+    assert second.length() > first.length() + 0.5  # round the end of the wall
+    # the very plan a planner that never saw the old costmap makes (no stale heuristic)
+    assert second.poses.tobytes() == planner().create_plan(start, goal, cm).poses.tobytes()

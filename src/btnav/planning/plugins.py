@@ -5,5 +5,6 @@ from . import (  # noqa: F401
     simple_smoother,
     smac_planner_2d,
     smac_planner_hybrid,
+    smac_planner_lattice,
     theta_star_planner,
 )
