@@ -40,6 +40,7 @@ from ..exceptions import InvalidPath, NoValidControl
 from ..path_handler import closest_index, integrated_index
 from . import critics as _critics  # noqa: F401  (registers the built-in critics)
 from .critic import Trajectories, TrajectoryCritic
+from .kinematic_parameters import KinematicParameters
 from .trajectory_generator import sample_velocities, simulate
 
 #: Nav2's documented critic list and scales for DWB.
@@ -89,7 +90,9 @@ class DWBParams(Controller.Params):
         "dwb_plugins/LimitedAccelGenerator",
     ) = "dwb_plugins::StandardTrajectoryGenerator"
     # Kinematics (dwb_plugins::KinematicParameters). Nav2's code defaults these to 0 (the
-    # robot would not move); btnav takes the values Nav2's documentation configures.
+    # robot would not move); btnav takes the values Nav2's documentation configures. A
+    # holonomic base strafes with min_vel_y < 0 < max_vel_y and acc_lim_y, decel_lim_y set;
+    # max_speed_xy caps hypot(vx, vy) (negative: no cap).
     min_vel_x: float = 0.0
     min_vel_y: float = 0.0
     max_vel_x: float = 0.26
@@ -104,10 +107,11 @@ class DWBParams(Controller.Params):
     decel_lim_x: float = -2.5
     decel_lim_y: float = 0.0
     decel_lim_theta: float = -3.2
-    # Sampling (dwb_plugins::XYThetaIterator).
-    vx_samples: int = Field(20, ge=1)
-    vy_samples: int = Field(5, ge=1)
-    vtheta_samples: int = Field(20, ge=1)
+    # Sampling (dwb_plugins::XYThetaIterator): per axis, a window wider than 1e-5 gets
+    # max(2, samples) velocities (0 or 1 as Nav2 reads them), plus zero where it straddles it.
+    vx_samples: int = Field(20, ge=0)
+    vy_samples: int = Field(5, ge=0)
+    vtheta_samples: int = Field(20, ge=0)
     # Simulation (dwb_plugins::StandardTrajectoryGenerator).
     sim_time: float = Field(1.7, gt=0.0)
     discretize_by_time: bool = False
@@ -224,7 +228,9 @@ class DWBLocalPlanner(Controller):
         for cname in self.params.critics:
             cls = critic_class(cname)
             self.critics.append(cls(cname, self.params.critic_params[cname], self.params))
-        self.max_vel_x = self.params.max_vel_x
+        #: The section's limits, and those a speed limit leaves (Nav2's KinematicsHandler).
+        self.base_kinematics = KinematicParameters.from_params(self.params)
+        self.kinematics = self.base_kinematics
         self._plan = np.zeros((0, 3))
         self.control_duration = 0.05
         self.last_trajectories: Trajectories | None = None
@@ -256,11 +262,13 @@ class DWBLocalPlanner(Controller):
             c.reset()
 
     def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
-        base = self.params.max_vel_x
-        if speed_limit <= 0.0:
-            self.max_vel_x = base
-        else:
-            self.max_vel_x = base * speed_limit / 100.0 if percentage else speed_limit
+        """Nav2's KinematicsHandler::setSpeedLimit, from the section's own limits."""
+        self.kinematics = self.base_kinematics.with_speed_limit(speed_limit, percentage)
+
+    @property
+    def max_vel_x(self) -> float:
+        """The forward speed the current speed limit allows."""
+        return self.kinematics.max_vel_x
 
     def _local_plan(self, pose: Pose2D, costmap: Costmap2D) -> NDArray[np.float64]:
         p = self.params
@@ -292,15 +300,12 @@ class DWBLocalPlanner(Controller):
                 raise NoValidControl(f"A scoring function ({c.name}) failed to prepare")
         limited = p.trajectory_generator_name.endswith("LimitedAccelGenerator")
         acc_time = self.control_duration if limited else p.sim_time
-        kin = (
-            p.model_copy(update={"max_vel_x": self.max_vel_x})
-            if self.max_vel_x != p.max_vel_x
-            else p
-        )
-        samples = sample_velocities(kin, velocity, acc_time)
+        kin = self.kinematics
+        counts = (p.vx_samples, p.vy_samples, p.vtheta_samples)
+        samples = sample_velocities(kin, counts, velocity, acc_time)
         if len(samples) == 0:
             raise NoValidControl("No valid velocity samples in the dynamic window")
-        trajs = simulate(kin, pose, velocity, samples, limited)
+        trajs = simulate(p, kin, pose, velocity, samples, limited)
         total = np.zeros(len(samples))
         for c in self.critics:
             scale = c.get_scale(costmap)
