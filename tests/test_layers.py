@@ -10,7 +10,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "btnav"
 #: Bottom to top; a package may import its own layer and those below it.
 LAYERS: list[set[str]] = [
     {"core"},
-    {"maps", "params", "plugins"},
+    {"maps", "params", "plugins", "description"},
     {"sim"},
     {"costmap"},
     {"planning", "control", "behaviors", "localization", "slam", "exploration"},

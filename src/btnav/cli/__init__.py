@@ -85,6 +85,12 @@ def _tree_palette(args: argparse.Namespace) -> int:
     return tree_palette_main(args.output, plugins=args.plugin or (), builtin=not args.skip_builtin)
 
 
+def _robot_show(args: argparse.Namespace) -> int:
+    from .robot import robot_main
+
+    return robot_main(args.file, args.package or (), args.arg or (), as_json=args.json)
+
+
 def _frames_of_world(args: argparse.Namespace) -> int:
     from .world import world_frames_main
 
@@ -290,6 +296,21 @@ def build_parser() -> argparse.ArgumentParser:
     frames = world.add_parser("frames", help="print the robot's frame tree (REP-105)")
     frames.add_argument("world")
     frames.set_defaults(func=_frames_of_world)
+
+    robot = _group(sub, "robot", "robot descriptions (URDF, xacro, Gazebo SDF)")
+    rshow = robot.add_parser("show", help="print what btnav reads from a robot description")
+    rshow.add_argument("file", help="a .urdf, .xacro or model.sdf (or a Gazebo model folder)")
+    rshow.add_argument(
+        "--package",
+        action="append",
+        metavar="NAME=DIR",
+        help="a ROS package's folder, for $(find NAME); repeatable",
+    )
+    rshow.add_argument(
+        "--arg", action="append", metavar="NAME=VALUE", help="a xacro arg; repeatable"
+    )
+    rshow.add_argument("--json", action="store_true", help="print one JSON object")
+    rshow.set_defaults(func=_robot_show)
     return parser
 
 

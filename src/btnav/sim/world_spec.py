@@ -2,8 +2,11 @@
 
 A world file describes the physical scene (bounds, walls, obstacles, some of them
 moving) and the robot (footprint, start pose, drive limits, odometry noise,
-sensors). `load_world_spec` reads one and turns every mistake into a `WorldError`
-naming the file, the line, the key path and, for a misspelt key, the right spelling.
+sensors). The robot may name a `description` (URDF, xacro or a Gazebo SDF model, read
+by `btnav.description`): its footprint, drive, lidars and drive limits fill every robot
+key the world leaves out, and a key the world writes wins. `load_world_spec` reads one
+and turns every mistake into a `WorldError` naming the file, the line, the key path
+and, for a misspelt key, the right spelling.
 Geometry that cannot be checked key by key (a start pose inside a wall) is checked
 by `World` against the physics, with the line of `robot.pose`.
 """
@@ -12,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import warnings
 from collections.abc import Sequence
 from os import PathLike
@@ -21,10 +25,11 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model_validator
 
-from ..core.errors import BtnavWarning, WorldError
+from ..core.errors import BtnavError, BtnavWarning, WorldError
 from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
-from ..core.yaml_io import line_at, load_yaml, load_yaml_text
+from ..core.yaml_io import YamlMap, line_at, load_yaml, load_yaml_text
+from ..description import PackagePaths, RobotDescription, load_description
 
 #: Coordinates beyond this (metres) are a mistake, not a building; it also keeps
 #: pymunk and the rasteriser away from float overflow.
@@ -341,18 +346,172 @@ class OdometrySpec(StrictModel):
     )
 
 
+#: The footprint a robot has when neither the world nor its description gives one.
+DEFAULT_FOOTPRINT_RADIUS = 0.22
+
+
+def _drive_class(name: Any) -> Any:
+    """The drive plugin class a name means (aliases too), or None when it is unknown."""
+    from ..plugins import lookup
+
+    try:
+        return lookup("drive", str(name))
+    except BtnavError:
+        return None
+
+
+def _described_drive(desc: RobotDescription, given: Any) -> Any:
+    """`robot.drive` with the description's drive filled in under what the world wrote.
+
+    The description's parameters that the drive plugin has (`wheelbase`,
+    `max_steering_angle`, ... for `ackermann`) fill the ones the world leaves out; a
+    world naming another drive keeps its own entry whole.
+    """
+    drive = desc.drive
+    if drive is None:
+        return given
+    name, world_params = drive.name, None
+    if given is not None:
+        if isinstance(given, str):
+            name = given
+        elif isinstance(given, dict) and len(given) == 1:
+            name, world_params = next(iter(given.items()))
+        else:
+            return given  # not a drive entry: the field validator says why
+        if world_params is not None and not isinstance(world_params, dict):
+            return given
+        cls = _drive_class(name)
+        if cls is None or cls is not _drive_class(drive.name):
+            return given
+    cls = _drive_class(name)
+    fields = set(cls.Params.model_fields) if cls is not None else set()
+    params = YamlMap(
+        {k: v for k, v in drive.params().items() if k in fields},
+        file=getattr(world_params, "file", None),
+        line=getattr(world_params, "line", None),
+    )
+    params.update(world_params or {})
+    params.key_lines = dict(getattr(world_params, "key_lines", {}))
+    return {name: params} if params or world_params is not None else name
+
+
+def _read_description(data: Any) -> Any:
+    """A robot section with `description: FILE` read, and the world's keys put over it.
+
+    What the description gives (footprint, drive and its parameters, lidars, the drive
+    plugin's limits) fills only the keys the world file leaves out: a key written in
+    the world wins. The file, `package_paths` and xacro args resolve from the world
+    file's folder; a description that cannot be read is its own located error.
+    """
+    if not isinstance(data, dict) or data.get("description") is None:
+        return data
+    if isinstance(data["description"], RobotDescription):
+        return data  # validated already (an assignment re-validates the model)
+    file = getattr(data, "file", None)
+    base = Path(file).parent if file else Path.cwd()
+
+    def where(key: str) -> dict[str, Any]:
+        line = data.line_of(key) if isinstance(data, YamlMap) else None
+        return dict(file=file, line=line, key=["robot", key])
+
+    path, paths, args = data["description"], data.get("package_paths"), data.get("xacro_args")
+    if not isinstance(path, str) or not path.strip():
+        raise WorldError(
+            "description is the path of a URDF, xacro or Gazebo SDF file", **where("description")
+        )
+    if paths is not None and not (
+        isinstance(paths, dict) and all(isinstance(v, str) for v in paths.values())
+    ):
+        raise WorldError(
+            "package_paths maps package names to folders: {name: dir}", **where("package_paths")
+        )
+    if args is not None and not (
+        isinstance(args, dict)
+        and all(isinstance(v, str | int | float | bool) for v in args.values())
+    ):
+        raise WorldError(
+            "xacro_args maps arg names to values: {name: value}", **where("xacro_args")
+        )
+    target = Path(path).expanduser()
+    target = target if target.is_absolute() else Path(os.path.normpath(base / target))
+    if not target.exists():
+        raise WorldError(f"robot description not found: {target}", **where("description"))
+    try:
+        packages = PackagePaths.from_mapping(paths, base)
+        packages.check()
+    except BtnavError as err:
+        raise WorldError(err.message, **where("package_paths")) from None
+    desc = load_description(target, packages, args)
+
+    merged = YamlMap(data, file=file, line=getattr(data, "line", None))
+    merged.key_lines = dict(getattr(data, "key_lines", {}))
+    merged["description"] = desc
+    if "footprint" not in data:
+        if desc.footprint is not None:
+            merged["footprint"] = desc.footprint.spec()
+        else:
+            warnings.warn(
+                BtnavWarning(
+                    f"the description {desc.file} has no collision geometry (box, cylinder, "
+                    f"sphere) on its base link, so the robot's footprint is the default "
+                    f"{{radius: {DEFAULT_FOOTPRINT_RADIUS:g}}}; give the world's robot a "
+                    "`footprint:`",
+                    **where("description"),
+                ),
+                stacklevel=2,
+            )
+    drive = _described_drive(desc, data.get("drive"))
+    if drive is not None:
+        merged["drive"] = drive
+    if "sensors" not in data:
+        if desc.lidars:
+            merged["sensors"] = [{"lidar": lidar.sensor_params()} for lidar in desc.lidars]
+        else:
+            warnings.warn(
+                BtnavWarning(
+                    f"the description {desc.file} has no 2D lidar (a Gazebo <sensor> of type "
+                    "ray, gpu_ray, lidar or gpu_lidar), so the robot has none; list the "
+                    "world's robot `sensors:`",
+                    **where("description"),
+                ),
+                stacklevel=2,
+            )
+    limits = desc.drive.limits if desc.drive is not None else {}
+    if limits and (data.get("limits") is None or isinstance(data.get("limits"), dict)):
+        given = data.get("limits") or {}
+        merged_limits = YamlMap({**limits, **given}, file=file, line=getattr(given, "line", None))
+        merged_limits.key_lines = dict(getattr(given, "key_lines", {}))
+        merged["limits"] = merged_limits
+    return merged
+
+
 class RobotSpec(StrictModel):
+    #: A URDF, xacro or Gazebo SDF robot description (a path from the world file's folder);
+    #: once validated, the `RobotDescription` read from it. It gives the footprint, the
+    #: drive, the lidars and the drive plugin's limits; what the world writes wins.
+    description: Any = None
+    #: Folders of the ROS packages the description names (`$(find pkg)`, `package://`).
+    package_paths: dict[str, str] = Field(default_factory=dict)
+    #: The description's xacro args (`name:=value` on xacro's command line).
+    xacro_args: dict[str, str | int | float | bool] = Field(default_factory=dict)
     #: The drive plugin: its name (`diff_drive`, `ackermann`, `omni`, a user's), or a
     #: one-key mapping `{name: {params}}`; kept as loaded, as `sensors` entries are, and
     #: validated by the plugin's own `Params` when the world is built.
     drive: Any = "diff_drive"
-    footprint: FootprintSpec = Field(default_factory=lambda: FootprintSpec(radius=0.22))
+    footprint: FootprintSpec = Field(
+        default_factory=lambda: FootprintSpec(radius=DEFAULT_FOOTPRINT_RADIUS)
+    )
     pose: Annotated[tuple[Coord, Coord, Angle], _numbers(3, "a pose is [x, y, yaw]")]
     limits: LimitsSpec = Field(default_factory=LimitsSpec)
     odometry: OdometrySpec = Field(default_factory=OdometrySpec)
     #: Raw entries (`{plugin_name: params}`), kept as loaded so their lines survive;
     #: each plugin's own `Params` validates them when the sensors are built.
     sensors: list[Any] = Field(default_factory=list, max_length=1000)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _described(cls, data: Any) -> Any:
+        return _read_description(data)
 
     @field_validator("drive")
     @classmethod
