@@ -44,11 +44,12 @@ from typing import Any, Protocol, runtime_checkable
 
 from ..core.clock import SimClock
 from ..core.errors import WorldError
-from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
+from ..core.frames import BASE_FOOTPRINT, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
 from ..core.heap import frozen_heap
 from ..core.messages import LaserScan, Odometry, Twist
 from ..plugins import lookup
+from ..sim.frames import add_robot_frames
 from ..sim.lidar import Lidar
 from ..sim.odometry import WheelOdometry, make_odometry
 from ..sim.sensor import Sensor
@@ -158,9 +159,7 @@ class Runtime:
         self.frames = FrameTree()
         self.frames.set_transform(MAP, ODOM, start, stamp=self.now)
         self.frames.set_transform(ODOM, BASE_FOOTPRINT, Pose2D(), stamp=self.now)
-        self.frames.set_static(BASE_FOOTPRINT, BASE_LINK, Pose2D())
-        for sensor in self.sensors:
-            self.frames.set_static(BASE_LINK, sensor.frame_id, sensor.mount)
+        add_robot_frames(self.frames, world, self.sensors)
 
         self.latest: dict[str, Any] = {"odom": self.odometry.last}
         self.latest_odom: Odometry = self.odometry.last

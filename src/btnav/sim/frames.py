@@ -1,8 +1,11 @@
-"""The frame tree a world implies at its start: REP-105 plus one frame per sensor mount."""
+"""The frame tree a world implies at its start: REP-105, one frame per sensor mount and the
+robot description's links."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from os import PathLike
+from typing import Any
 
 from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
@@ -22,7 +25,18 @@ def world_frame_tree(world: World | str | PathLike[str], seed: int = 0) -> Frame
     tree = FrameTree()
     tree.set_transform(MAP, ODOM, Pose2D(*w.spec.robot.pose), stamp=w.time)
     tree.set_transform(ODOM, BASE_FOOTPRINT, Pose2D(), stamp=w.time)
-    tree.set_static(BASE_FOOTPRINT, BASE_LINK, Pose2D())
-    for sensor in make_sensors(w, seed):
-        tree.set_static(BASE_LINK, sensor.frame_id, sensor.mount)
+    add_robot_frames(tree, w, make_sensors(w, seed))
     return tree
+
+
+def add_robot_frames(tree: FrameTree, world: World, sensors: Iterable[Any]) -> None:
+    """The robot's static frames: `base_footprint -> base_link`, each sensor's mount, and
+    the robot description's other links under their own parents (its link names)."""
+    tree.set_static(BASE_FOOTPRINT, BASE_LINK, Pose2D())
+    for sensor in sensors:
+        tree.set_static(BASE_LINK, sensor.frame_id, sensor.mount)
+    described = world.spec.robot.description
+    if described is not None:
+        for parent, child, pose in described.tf_edges():
+            if not tree.has(child):
+                tree.set_static(parent, child, Pose2D(*pose))
