@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from btnav.costmap.cost_values import LETHAL_OBSTACLE, NO_INFORMATION
+from btnav.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from btnav.costmap.costmap_2d import Costmap2D
 from btnav.exploration.frontier_search import find_frontiers
 
@@ -53,6 +53,16 @@ def test_a_frontier_only_reachable_through_a_closed_doorway_is_none():
     costs = two_rooms()
     costs[60:70, 100] = LETHAL_OBSTACLE
     assert all(f.centroid[0] < 5.0 for f in search(costs))
+
+
+def test_a_robot_in_an_inflated_ring_still_sees_the_frontiers():
+    """Pushed against a post, every cell round the robot is inscribed: explore_lite starts
+    its search from the nearest free cell, so the map is not taken for explored."""
+    costs = two_rooms()
+    costs[92:109, 52:69] = INSCRIBED_INFLATED_OBSTACLE  # a post's inscribed ring, 0.85 m
+    costs[100, 60] = LETHAL_OBSTACLE
+    frontiers = search(costs, robot=(3.0, 5.0))  # cell (60, 100): inside the ring
+    assert len(frontiers) == 3
 
 
 def test_small_frontiers_are_ignored():

@@ -80,9 +80,15 @@ def find_frontiers(
 
     passable = sub < INSCRIBED_INFLATED_OBSTACLE
     start = _robot_cell(robot, ox, oy, res, sub.shape)
-    if start is None:
+    if start is None or not passable.any():
         return []
-    passable[start] = True  # the robot stands where it stands
+    if not passable[start]:
+        # A robot in an inflated ring (pushed there, or its footprint padded more than
+        # its body) searches from the nearest cell it could stand in, as explore_lite's
+        # nearestCell: from its own cell every neighbour would be blocked, and the whole
+        # map would look explored.
+        _, (iy, ix) = ndimage.distance_transform_edt(~passable, return_indices=True)
+        start = (int(iy[start]), int(ix[start]))
     dist = _path_costs(sub, passable, start, res)
 
     # frontier cells, and the cheapest passable 4-neighbour of each (its goal cell)
