@@ -111,6 +111,8 @@ def test_laser_odometry_follows_every_drive(tmp_path: Path, drive: str) -> None:
     """rf2o-style laser odometry needs nothing of the wheels: a car, an omni base and a
     diff drive with useless wheel odometry all keep odom on the truth."""
     world = yaml.safe_load(RACECAR_WORLD.read_text())
+    robot = world["robot"]
+    robot["description"] = str((RACECAR_WORLD.parent / robot["description"]).resolve())
     if drive != "ackermann":
         world["robot"]["drive"] = drive
     world["robot"]["odometry"] = {"noise": [2.0, 2.0, 2.0, 2.0], "rate": 50}

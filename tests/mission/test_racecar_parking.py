@@ -26,6 +26,7 @@ def run(tmp_path: Path, start: tuple[float, float, float] | None = None) -> tupl
     for key in ("params", "map"):
         doc[key] = str((MISSION.parent / doc[key]).resolve())
     world = yaml.safe_load(WORLD.read_text())
+    world["robot"]["description"] = str((WORLD.parent / world["robot"]["description"]).resolve())
     if start is not None:
         world["robot"]["pose"] = list(start)
     (tmp_path / "world.yaml").write_text(yaml.safe_dump(world, sort_keys=False))

@@ -127,11 +127,16 @@ def describe(desc: RobotDescription) -> str:
             f"noise_std {lidar.noise_std:g} m"
         )
     lines.append(f"frames (from {desc.base_frame}):")
-    depth = {desc.base_frame: 0}
+    children: dict[str | None, list[Any]] = {}
     for f in desc.frames:
-        d = 0 if f.parent is None else depth[f.parent] + 1
-        depth[f.name] = d
-        lines.append(f"  {'  ' * d}{f.name}  [{f.x:g}, {f.y:g}, {f.z:g}] yaw {f.yaw:g}")
+        children.setdefault(f.parent, []).append(f)
+
+    def walk(parent: str | None, depth: int) -> None:  # each link under its own parent
+        for f in children.get(parent, []):
+            lines.append(f"  {'  ' * depth}{f.name}  [{f.x:g}, {f.y:g}, {f.z:g}] yaw {f.yaw:g}")
+            walk(f.name, depth + 1)
+
+    walk(None, 0)
     return "\n".join(lines)
 
 
