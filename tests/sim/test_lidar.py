@@ -57,7 +57,9 @@ def analytic(x: float, y: float, angles: np.ndarray, w=10.0, h=8.0, circle=(7.0,
 def make(world, seed: int = 0, **params) -> Lidar:
     params.setdefault("frame", "laser")
     params.setdefault("range", (0.1, 30.0))
-    return Lidar(validate(Lidar.Params, params), world, stream(seed, "sensor", "laser"))
+    lidar = Lidar("lidar", validate(Lidar.Params, params))
+    lidar.configure(world, stream(seed, "sensor", "laser"))
+    return lidar
 
 
 def test_registered_as_the_lidar_sensor_plugin():

@@ -15,7 +15,7 @@ from .raycast import RayCaster
 from .sensor import Sensor
 
 if TYPE_CHECKING:
-    from .world import World
+    pass
 
 TWO_PI = 2.0 * math.pi
 #: An angular span this close to 2*pi is a full circle (a YAML `6.2832` included).
@@ -95,8 +95,8 @@ class Lidar(Sensor):
 
     params: Params
 
-    def __init__(self, params: Params, world: World, rng: np.random.Generator) -> None:
-        super().__init__(params, world, rng)
+    def __init__(self, name: str, params: Params) -> None:
+        super().__init__(name, params)
         p = params
         self.range_min, self.range_max = float(p.range[0]), float(p.range[1])
         span = p.angle_max - p.angle_min

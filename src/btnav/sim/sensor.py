@@ -2,23 +2,26 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydantic import Field
 
 from ..core.geometry import Pose2D
 from ..core.validation import StrictModel
+from ..plugins import Plugin
 
 if TYPE_CHECKING:
     from .world import World
 
 
-class Sensor:
+class Sensor(Plugin):
     """Base of every sensor plugin (`@register("sensor", name)`).
 
     A world file lists sensors as one-key mappings (`- lidar: {...}`); the key is
-    the plugin name and the value is validated by the plugin's `Params`.
+    the plugin name and the value is validated by the plugin's `Params`. Built as every
+    plugin is, `cls(name, params)`; then `configure(world, rng)` hands it the world it
+    measures and its own seeded noise stream.
     """
 
     class Params(StrictModel):
@@ -30,16 +33,19 @@ class Sensor:
             10.0, gt=0, le=10_000, description="measurements per second of sim time"
         )
 
-    plugin_kind: ClassVar[str]
-    plugin_name: ClassVar[str]
+    params: Params
+    world: World
+    rng: np.random.Generator
 
-    def __init__(self, params: Params, world: World, rng: np.random.Generator) -> None:
-        self.params = params
-        self.world = world
-        self.rng = rng
+    def __init__(self, name: str, params: Params) -> None:
+        super().__init__(name, params)
         self.frame_id = params.frame
         self.mount = Pose2D(*params.pose)
         self.rate = params.rate
+
+    def configure(self, world: World, rng: np.random.Generator) -> None:  # type: ignore[override]
+        self.world = world
+        self.rng = rng
 
     def measure(self, now: float) -> Any:
         """Take one measurement of the world as it is now, stamped `now`."""

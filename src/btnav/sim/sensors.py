@@ -46,5 +46,7 @@ def make_sensors(world: World, seed: int = 0) -> list[Sensor]:
                 **where,
             )
         frames[frame] = line
-        sensors.append(cls(params, world, stream(seed, "sensor", frame)))
+        sensor = cls(name, params)
+        sensor.configure(world, stream(seed, "sensor", frame))
+        sensors.append(sensor)
     return sensors
