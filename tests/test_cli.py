@@ -280,6 +280,81 @@ def test_missed_waypoints_exit_1_and_a_goal_off_the_map_is_warned_first(tmp_path
     assert report["status"] == "succeeded" and report["missed_waypoints"] == [1, 2]
 
 
+def test_run_prints_a_line_per_missed_waypoint_under_the_result(tmp_path, capsys):
+    mission = tmp_path / "m.yaml"
+    mission.write_text(
+        f"mission: one_miss\nworld: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\n"
+        "task:\n  follow_waypoints:\n    - [1.6, 1.0, 0.0]\n    - [20, 3]\n"
+        "time_limit: 60\noutputs: [report]\n"
+    )
+    out = tmp_path / "out"
+    assert main(["run", str(mission), "--out", str(out)]) == 1
+    lines = capsys.readouterr().out.splitlines()
+    (missed,) = json.loads((out / "report.json").read_text())["missed_waypoint_statuses"]
+    assert lines[0].startswith("one_miss: succeeded with 1 of 2 waypoints missed: ")
+    assert lines[1] == (
+        "  missed waypoint 1 (20, 3, 0): error 204 GOAL_OUTSIDE_MAP "
+        '"Goal coordinates of (20.000, 3.000) was outside bounds"; ComputePathToPose '
+        f"failed last, at {missed['sim_time']:.1f} s sim"
+    )
+    assert lines[2] == f"outputs in {out}/: report.json" and len(lines) == 3
+
+
+def test_run_with_strict_params_stops_at_a_key_nav2_skips(tmp_path, nav2_params_file, capsys):
+    from .params.tutorial import SKIPPED, line_of, with_tutorial_sections
+
+    params = with_tutorial_sections(nav2_params_file, tmp_path / "tutorial.yaml")
+    mission = tmp_path / "m.yaml"
+    mission.write_text(
+        f"world: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\nparams: {params}\n"
+        "strict_params: true\ntask:\n  navigate_to_pose: [3, 2]\n"
+    )
+    assert main(["run", str(mission), "--out", str(tmp_path / "out")]) == 2
+    captured = capsys.readouterr()
+    key = SKIPPED[0][0]
+    assert captured.out == ""
+    assert captured.err.splitlines() == [
+        f"btnav: error: {params}:{line_of(params, key)}: {key}: Nav2 Humble's name, replaced "
+        "in Iron by a list, no longer read since Jazzy; Nav2 ignores it too (current "
+        f"equivalent: progress_checker_plugins) (strict_params: true in {mission} makes a key "
+        "Nav2 skips an error; 12 more keys Nav2 skips)"
+    ]
+
+
+def test_params_check_strict_makes_a_skipped_key_an_error(tmp_path, nav2_params_file, capsys):
+    from .params.tutorial import with_tutorial_sections
+
+    params = with_tutorial_sections(nav2_params_file, tmp_path / "tutorial.yaml")
+    assert main(["params", "check", str(params)]) == 0
+    capsys.readouterr()
+    assert main(["params", "check", "--strict", str(params)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"btnav: error: {params}:")
+
+
+def test_a_behavior_plugin_named_otherwise_than_the_tree_calls_it_says_the_fix(
+    tmp_path, nav2_params_file, capsys
+):
+    text = nav2_params_file.read_text().replace(
+        '["spin", "backup", "drive_on_heading", "assisted_teleop", "wait"]',
+        '["Spin", "backup", "drive_on_heading", "assisted_teleop", "wait"]',
+    )
+    text = text.replace("    spin:\n      plugin:", "    Spin:\n      plugin:")
+    assert '["Spin",' in text and "    Spin:" in text
+    params = tmp_path / "params.yaml"
+    params.write_text(text)
+    mission = tmp_path / "m.yaml"
+    mission.write_text(
+        f"world: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\nparams: {params}\n"
+        "task:\n  navigate_to_pose: [3, 2]\n"
+    )
+    assert main(["run", str(mission), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1
+    assert "calls the action server 'spin', but the Spin server is named 'Spin'" in err[0]
+    assert "rename the plugin 'spin', or set the node's server_name=\"Spin\"" in err[0]
+
+
 # -- btnav run on a terminal, and elsewhere ------------------------------------------------
 
 

@@ -11,6 +11,8 @@ from pydantic import Field
 from btnav.params import ParamsModel
 from btnav.plugins import register, unregister
 
+from .tutorial import with_tutorial_sections
+
 #: A made-up plugin type (not a Nav2 name), so nothing real is replaced while a test runs.
 TEST_INFLATION = "btnav_test::InflationLayer"
 
@@ -35,6 +37,12 @@ def nav2_copy(tmp_path: Path, nav2_params_file: Path) -> Callable[..., tuple[Pat
         return out, (hits[0] + 1 if hits else 0)
 
     return make
+
+
+@pytest.fixture
+def tutorial_params(tmp_path: Path, nav2_params_file: Path) -> Path:
+    """Nav2's params file with the Jazzy tutorial's three sections pasted in (issue 34)."""
+    return with_tutorial_sections(nav2_params_file, tmp_path / "tutorial_params.yaml")
 
 
 @pytest.fixture

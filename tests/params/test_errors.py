@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from btnav.core.errors import ParamsError
+from btnav.core.errors import BtnavWarning, ParamsError
 from btnav.params import load_params
 
 from .conftest import TEST_INFLATION
@@ -257,12 +257,16 @@ def test_a_custom_list_needs_every_section(tmp_path: Path) -> None:
 
 
 def test_legacy_singular_progress_checker(tmp_path: Path) -> None:
+    """Nav2 no longer reads Humble's key (a warning), but its default list names the same
+    checker, so the section is used all the same."""
     path = write(
         tmp_path,
         "controller_server:\n  ros__parameters:\n    progress_checker_plugin: progress_checker\n"
         "    progress_checker:\n      plugin: nav2_controller::PoseProgressChecker\n",
     )
-    checker = load_params(path).server("controller_server").plugins["progress_checker"]
+    with pytest.warns(BtnavWarning, match="current equivalent: progress_checker_plugins"):
+        params = load_params(path)
+    checker = params.server("controller_server").plugins["progress_checker"]
     assert (checker.kind, checker.type) == (
         "progress_checker",
         "nav2_controller::PoseProgressChecker",

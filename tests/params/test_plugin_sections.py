@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from pydantic import Field
 
-from btnav.core.errors import ParamsError
+from btnav.core.errors import BtnavWarning, ParamsError
 from btnav.params import ParamsModel, Why, ignored, load_params
 from btnav.plugins import register, unregister
 
@@ -76,9 +76,14 @@ def test_the_registry_lists_registered_names_for_a_typo(tmp_path: Path, planner:
     assert info.value.key == "planner_server.Straight.plugin"
 
 
-def test_a_plugin_without_params_takes_no_keys(tmp_path: Path, bare_planner: type) -> None:
+def test_a_plugin_without_params_reads_no_keys(tmp_path: Path, bare_planner: type) -> None:
     section = load_params(planner_file(tmp_path)).server("planner_server").plugins["Straight"]
     assert section.cls is bare_planner
-    with pytest.raises(ParamsError) as info:
-        load_params(planner_file(tmp_path, "      step: 0.1\n"))
-    assert (info.value.line, info.value.key) == (6, "planner_server.Straight.step")
+    path = planner_file(tmp_path, "      step: 0.1\n")
+    with pytest.warns(BtnavWarning) as caught:  # Nav2 would skip it too: not a near miss
+        params = load_params(path)
+    assert [(w.message.line, w.message.key) for w in caught] == [
+        (6, "planner_server.Straight.step")
+    ]
+    assert "(not a parameter StraightLine reads); Nav2 ignores it too" in str(caught[0].message)
+    assert params.server("planner_server").plugins["Straight"].cls is bare_planner

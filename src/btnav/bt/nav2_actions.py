@@ -113,6 +113,14 @@ class BtActionNode(Nav2Leaf):
         servers = self.runtime.action_servers
         if name not in servers:
             names = servers.names()
+            same = [n for n in names if servers.get(n).action == self.ACTION]
+            if name == self.SERVER and len(same) == 1:  # behavior_plugins: [Spin, ...]
+                raise UnknownNameError(
+                    f"the tree's {type(self).__name__} node calls the action server '{name}', "
+                    f"but the {self.ACTION} server is named '{same[0]}' (its *_plugins name); "
+                    f"Nav2 fails here too: rename the plugin '{name}', or set the node's "
+                    f'server_name="{same[0]}"'
+                )
             raise UnknownNameError(
                 f"{type(self).__name__} '{self.name}': action server '{name}' not available; "
                 f"servers: {', '.join(names) or '(none)'}",

@@ -32,7 +32,7 @@ EXIT_INTERRUPTED = 130
 def _params_check(args: argparse.Namespace) -> int:
     from .params import check_main
 
-    return check_main(args.file)
+    return check_main(args.file, strict=args.strict)
 
 
 def _map_show(args: argparse.Namespace) -> int:
@@ -234,6 +234,11 @@ def build_parser() -> argparse.ArgumentParser:
         "check", help="validate a params file; list servers, plugins and ignored keys"
     )
     check.add_argument("file")
+    check.add_argument(
+        "--strict",
+        action="store_true",
+        help="a key Nav2 skips (a ROS 1 name, an older distribution's, a BT port) is an error",
+    )
     check.set_defaults(func=_params_check)
 
     maps = _group(sub, "map", "map_server maps")

@@ -1,8 +1,10 @@
-"""`btnav params check FILE`: what btnav makes of a Nav2 params file, before running anything.
+"""`btnav params check [--strict] FILE`: what btnav makes of a Nav2 params file, before running.
 
 It prints the servers, the plugin each section resolves to (a btnav class, or
-"not implemented yet"), the placeholders, and every key or section it ignores;
-it exits 0 when the file loads and 2 on a mistake (the one-line located error).
+"not implemented yet"), the placeholders, and every key or section it ignores; each
+key Nav2 itself skips (a ROS 1 name, an older distribution's, a BT port) is one
+`btnav: warning:` line on stderr. It exits 0 when the file loads and 2 on a mistake
+(the one-line located error); with `--strict` a key Nav2 skips is such a mistake.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ import sys
 from os import PathLike
 from typing import TextIO
 
-from ..core.errors import ERROR_PREFIX, BtnavError
+from ..core.errors import ERROR_PREFIX, WARNING_PREFIX, BtnavError
 from ..params.check import ParamsCheck, check_params
 from . import EXIT_OK, EXIT_USER_ERROR
 
@@ -38,30 +40,43 @@ def format_report(check: ParamsCheck) -> str:
     ignored = check.ignored
     lines += ["", f"ignored ({len(ignored)}):"]
     lines += [f"  {entry}" for entry in ignored]
+    skipped = len(check.skipped)
     lines += [
         "",
         f"OK: {len(params.servers)} servers, {len(check.plugins)} plugin sections "
         f"({len(check.implemented)} implemented, {len(check.not_implemented)} not implemented "
-        f"yet), {len(ignored)} ignored entries",
+        f"yet), {len(ignored)} ignored entries, {skipped} key{'s' if skipped != 1 else ''} "
+        "Nav2 skips too" + (" (warned on stderr)" if skipped else ""),
     ]
     return "\n".join(lines)
 
 
-def check_report(path: str | PathLike[str]) -> str:
+#: What `--strict` says in its error: why a key Nav2 skips is one.
+STRICT = "--strict"
+
+
+def check_report(path: str | PathLike[str], *, strict: bool = False) -> str:
     """Load `path` and describe it; a mistake raises the located `BtnavError`."""
-    return format_report(check_params(path))
+    return format_report(check_params(path, strict=STRICT if strict else None))
 
 
 def check_main(
-    path: str | PathLike[str], out: TextIO | None = None, err: TextIO | None = None
+    path: str | PathLike[str],
+    out: TextIO | None = None,
+    err: TextIO | None = None,
+    *,
+    strict: bool = False,
 ) -> int:
-    """Print the report and return 0, or print the one-line error and return 2."""
+    """Print a warning per key Nav2 skips and the report, and return 0; or print the
+    one-line error and return 2 (`strict`: a key Nav2 skips is an error)."""
     out = out or sys.stdout
     err = err or sys.stderr
     try:
-        report = check_report(path)
+        check = check_params(path, strict=STRICT if strict else None)
     except BtnavError as exc:
         print(f"{ERROR_PREFIX}{exc}", file=err)
         return EXIT_USER_ERROR
-    print(report, file=out)
+    for skipped in check.skipped:
+        print(f"{WARNING_PREFIX}{skipped}", file=err)
+    print(format_report(check), file=out)
     return EXIT_OK

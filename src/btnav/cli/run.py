@@ -1,5 +1,7 @@
 """`btnav run MISSION [--out DIR] [--seed N] [--set KEY=VALUE ...] [--gif]`: the run, one line
-of result. `--gif` adds the `gif` output (`run.gif`, the viz extra) to the mission's outputs.
+of result, then one line per missed waypoint (its pose, Nav2's error code and message, the
+tree node that failed last, the sim time). `--gif` adds the `gif` output (`run.gif`, the
+viz extra) to the mission's outputs.
 
 On a terminal a live status line (sim time, real-time factor, the running action,
 the waypoint) is redrawn while the run goes and erased before the result; elsewhere
@@ -45,6 +47,8 @@ def run_main(
     finally:
         status.close()
     print(report.summary())
+    for line in report.missed_lines():
+        print(f"  {line}")
     if report.outputs:
         print(f"outputs in {out_dir}/: {', '.join(report.outputs)}")
     return report.exit_code
@@ -70,6 +74,8 @@ def _run_stages(
     def ended(stage: str, report: Any) -> None:
         statuses[-1].close()
         print(f"[{stage}] {report.summary()}")
+        for line in report.missed_lines():
+            print(f"[{stage}]   {line}")
         print(f"[{stage}] outputs in {out_dir / stage}/: {', '.join(report.outputs)}")
 
     extra = {"gif"} if gif else set()

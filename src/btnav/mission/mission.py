@@ -170,7 +170,8 @@ class Mission:
             if spec.params is not None
             else bundled_dir("params") / "nav2_params.yaml"
         )
-        params = load_params(params_path)
+        strict = f"strict_params: true in {file}" if spec.strict_params else None
+        params = load_params(params_path, strict=strict)
         if params_over:
             params, params_set = _override_params(params, params_over, given)
             changed.update(params_set)

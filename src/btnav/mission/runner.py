@@ -6,7 +6,8 @@ it ends or `time_limit` passes (then it is canceled, as BasicNavigator's example
 do). It writes `report.json`, `trajectory.csv`, `bt_log.jsonl`, the map and the SLAM
 pose graph as the mission's `outputs` ask, then hands the run to each `output` plugin asked for
 (`png` with the viz extra). A navigation failure is a report with Nav2's error code,
-never an exception.
+never an exception; a missed waypoint is reported with its error and the tree node
+that failed last (`FailedNodes`, a tick listener).
 """
 
 from __future__ import annotations
@@ -18,14 +19,17 @@ from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
+from py_trees.common import Status
+
+from ..bt.nav2_actions import BtActionNode
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
 from ..navigators.navigator import BasicNavigator
-from .bt_log import BtLog
+from .bt_log import BtLog, depth_first
 from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission
 from .outputs import BUILTIN_OUTPUTS, RunOutput, output_files, output_plugin, start_outputs
-from .report import RunReport
+from .report import RunReport, waypoint_status
 from .spec import builds_map
 from .trajectory import TrajectoryRecorder
 
@@ -43,6 +47,57 @@ def start_task(nav: BasicNavigator, mission: Mission) -> bool:
     if mission.task == "navigate_through_poses":
         return nav.go_through_poses(poses)
     return nav.follow_waypoints(poses)
+
+
+class FailedNodes:
+    """bt_navigator tick listener: per navigation goal, the tree node that failed last.
+
+    A BT action node (ComputePathToPose, FollowPath, Spin...) is preferred, as it is
+    what Nav2's error code comes from; a condition's or another leaf's failure counts
+    when no action node failed. Status changes are heard through each node's
+    `status_listener`, so a failure its parent halts within the same tick is heard too;
+    a listener already set there (the bt_log's) is kept and called first, so add this
+    listener after the bt_log.
+    """
+
+    def __init__(self) -> None:
+        #: goal handle -> the last failed action node and the last failed leaf of any kind
+        self._failed: dict[Any, dict[str, dict[str, str]]] = {}
+        self._roots: list[Any] = []  # the trees heard already (few: one per navigator)
+
+    def __call__(self, navigator: Any, now: float) -> None:
+        root = navigator.root
+        if root is not None and not any(r is root for r in self._roots):
+            self._roots.append(root)
+            for node in depth_first(root):
+                if not node.children and hasattr(type(node), "status_listener"):
+                    node.status_listener = self._listener(navigator, node.status_listener)
+
+    def _listener(self, navigator: Any, before: Callable[..., None] | None) -> Any:
+        def changed(node: Any, old: Status, new: Status) -> None:
+            if before is not None:
+                before(node, old, new)
+            if new is Status.FAILURE and navigator.current is not None:
+                seen = {"name": node.name, "type": type(node).__name__}
+                failed = self._failed.setdefault(navigator.current, {})
+                failed["leaf"] = seen
+                if isinstance(node, BtActionNode):
+                    failed["action"] = seen
+
+        return changed
+
+    def failed_node(self, goal: Any) -> dict[str, str] | None:
+        """The node that failed last in the navigation of `goal` (a goal handle), or None."""
+        failed = self._failed.get(goal, {})
+        node = failed.get("action") or failed.get("leaf")
+        return None if node is None else dict(node)
+
+    def goal_ended_at(self, stamp: float) -> Any:
+        """The navigation goal that ended at sim time `stamp` (a missed waypoint's)."""
+        for goal in self._failed:
+            if goal.end_time is not None and abs(goal.end_time - stamp) < 1e-9:
+                return goal
+        return None
 
 
 def run_mission(
@@ -97,6 +152,10 @@ def run_mission(
             for navigator in bt.navigators.values():  # the task's tree is built already
                 if navigator.action == TASK_ACTION[mission.task] and navigator.root is not None:
                     log(navigator, nav.now)
+        failures = None
+        if mission.task == "follow_waypoints":  # after the bt_log: it chains the log's hook
+            failures = FailedNodes()
+            bt.tick_listeners.append(failures)
 
         if out is not None:
             start_outputs(plugins, nav, out)
@@ -113,7 +172,9 @@ def run_mission(
             result = nav.get_result()
         wall = time.perf_counter() - wall0
 
-    report = build_report(mission, nav, result, recorder, counters, wall, limit_reached, outputs)
+    report = build_report(
+        mission, nav, result, recorder, counters, wall, limit_reached, outputs, failures
+    )
     if out is not None:
         if "map" in outputs and nav.stack.map_server.map is not None:
             nav.save_map(out / output_files("map")[0])
@@ -135,8 +196,10 @@ def build_report(
     wall: float,
     limit_reached: bool,
     outputs: list[str],
+    failures: FailedNodes | None = None,
 ) -> RunReport:
-    """The run's report from what its recorders kept (also for a run driven by hand)."""
+    """The run's report from what its recorders kept (also for a run driven by hand);
+    `failures` names the node that failed last for each missed waypoint."""
     if result is None:  # a goal rejected outright, or a cancel that did not end in time
         status, code, msg = "failed", None, "the task did not start or did not end"
     else:
@@ -147,6 +210,9 @@ def build_report(
         msg = f"time_limit of {mission.spec.time_limit:g} s reached"
     value = result.value if result is not None else None
     missed = list(getattr(value, "missed_indices", []))
+    statuses = [
+        _missed_status(m, mission, failures) for m in getattr(value, "missed_waypoints", [])
+    ]
     return RunReport(
         mission=mission.name,
         seed=mission.seed,
@@ -170,4 +236,26 @@ def build_report(
             if builds_map(mission.spec.localization)
             else None
         ),
+        missed_waypoint_statuses=statuses,
     )
+
+
+def _missed_status(missed: Any, mission: Mission, failures: FailedNodes | None) -> dict[str, Any]:
+    """report.json's entry for a missed waypoint (nav2_msgs' MissedWaypoint/WaypointStatus)."""
+    stamp = getattr(missed, "stamp", None)
+    goal = failures.goal_ended_at(stamp) if failures is not None and stamp is not None else None
+    poses = mission.spec.task.poses
+    pose = poses[missed.index] if missed.index < len(poses) else _xyyaw(missed.goal)
+    return waypoint_status(
+        missed.index,
+        Pose2D(*pose),
+        missed.error_code,
+        missed.error_msg,
+        stamp,
+        failures.failed_node(goal) if failures is not None and goal is not None else None,
+    )
+
+
+def _xyyaw(goal: Any) -> tuple[float, float, float]:
+    pose = getattr(goal, "pose", goal)
+    return (float(pose.x), float(pose.y), float(getattr(pose, "yaw", 0.0)))

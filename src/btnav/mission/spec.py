@@ -146,6 +146,9 @@ class MissionSpec(StrictModel):
     seed: int = Field(0, ge=0)
     outputs: list[str] = Field(default_factory=lambda: list(DEFAULT_OUTPUTS))
     plugins: list[str] = Field(default_factory=list)
+    #: A params key Nav2 skips (a ROS 1 name, an older distribution's, a BT port) is an
+    #: error instead of a warning, as `btnav params check --strict` makes it.
+    strict_params: bool = False
 
 
 def mission_place(key: str) -> str:

@@ -1,8 +1,9 @@
 """waypoint_follower: FollowWaypoints, one NavigateToPose per waypoint, a task at each.
 
 As Nav2's WaypointFollower: waypoints are sent in order to `navigate_to_pose`; a
-waypoint whose navigation fails is recorded in `missed_waypoints` (index, goal, error
-code) and, with `stop_on_failure`, ends the action ABORTED with
+waypoint whose navigation fails is recorded in `missed_waypoints` (Nav2's
+WaypointStatus: index, goal, error code and message, plus the sim time it was given
+up) and, with `stop_on_failure`, ends the action ABORTED with
 STOP_ON_MISSED_WAYPOINT; otherwise the follower goes on with the next one. After a
 waypoint is reached the task executor (`waypoint_task_executor_plugin`) runs there;
 a failed task is TASK_EXECUTOR_FAILED with `stop_on_failure`, a missed waypoint
@@ -17,6 +18,7 @@ time runs while a robot waits at a waypoint.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 from pydantic import Field
@@ -75,6 +77,14 @@ def _pose(value: Any) -> Any:
     return value if hasattr(value, "x") or hasattr(value, "pose") else Pose2D(*value)
 
 
+@dataclass(frozen=True)
+class MissedWaypointStatus(MissedWaypoint):
+    """A missed waypoint as Nav2's WaypointStatus (FAILED) carries it, and `stamp`: the sim
+    time its navigation (or task) ended, which a report places the failure by."""
+
+    stamp: float = 0.0
+
+
 class WaypointFollower(ActionServer[FollowWaypointsGoal]):
     """nav2_waypoint_follower: the `follow_waypoints` action server."""
 
@@ -88,7 +98,7 @@ class WaypointFollower(ActionServer[FollowWaypointsGoal]):
         self._index = 0
         self._nav: GoalHandle[Any] | None = None
         self._task_running = False
-        self._missed: list[MissedWaypoint] = []
+        self._missed: list[MissedWaypointStatus] = []
 
     def set_parameters(self, params: ServerParams) -> None:
         self.server_params = params
@@ -109,8 +119,9 @@ class WaypointFollower(ActionServer[FollowWaypointsGoal]):
         self._missed = []
         return self.execute(handle, now)
 
-    def _miss(self, handle: GoalHandle[Any], code: int, msg: str) -> None:
-        self._missed.append(MissedWaypoint(self._index, handle.goal.poses[self._index], code, msg))
+    def _miss(self, handle: GoalHandle[Any], code: int, msg: str, stamp: float) -> None:
+        goal = handle.goal.poses[self._index]
+        self._missed.append(MissedWaypointStatus(self._index, goal, code, msg, stamp))
 
     def execute(self, handle: GoalHandle[FollowWaypointsGoal], now: float) -> NavResult | None:
         poses = handle.goal.poses
@@ -125,7 +136,9 @@ class WaypointFollower(ActionServer[FollowWaypointsGoal]):
                 if not done:
                     if self.params.stop_on_failure:
                         return self._abort(FollowWaypointsError.TASK_EXECUTOR_FAILED)
-                    self._miss(handle, FollowWaypointsError.TASK_EXECUTOR_FAILED, "task failed")
+                    self._miss(
+                        handle, FollowWaypointsError.TASK_EXECUTOR_FAILED, "task failed", now
+                    )
                 self._index += 1
                 self._nav = None
                 continue
@@ -144,10 +157,13 @@ class WaypointFollower(ActionServer[FollowWaypointsGoal]):
                 if not done:
                     if self.params.stop_on_failure:
                         return self._abort(FollowWaypointsError.TASK_EXECUTOR_FAILED)
-                    self._miss(handle, FollowWaypointsError.TASK_EXECUTOR_FAILED, "task failed")
+                    self._miss(
+                        handle, FollowWaypointsError.TASK_EXECUTOR_FAILED, "task failed", now
+                    )
                 self._index += 1
                 continue
-            self._miss(handle, nav.error_code, nav.error_msg)
+            ended = nav.end_time if nav.end_time is not None else now
+            self._miss(handle, nav.error_code, nav.error_msg, ended)
             if self.params.stop_on_failure:
                 return self._abort(FollowWaypointsError.STOP_ON_MISSED_WAYPOINT)
             self._index += 1

@@ -1,12 +1,18 @@
 """Loading Nav2 params files as they are: `<server>: ros__parameters:`, nested costmaps, plugins.
 
-Every top-level key is one of three things: a server btnav implements (validated
+Every top-level key is one of four things: a server btnav implements (validated
 by its model, its plugin sections resolved), a Nav2 node btnav knows but does not
-run (listed once as ignored), or a mistake (an error with the closest name).
+run (listed once as ignored), a near miss of either (an error with the closest
+name), or a node Nav2 does not have (skipped, as Nav2 skips it: one warning).
+
+Inside a server, a key Nav2 does not read is skipped the same way unless it is a
+near miss of a real key (`schema.validate_section`); `load_params` warns once per
+skipped key, or refuses the first one when strict loading is asked for.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from os import PathLike
 from pathlib import Path
@@ -16,21 +22,51 @@ from ..core.errors import ParamsError
 from ..core.suggest import best_match
 from ..core.yaml_io import YamlMap, load_yaml
 from .ignored import entry, ignored_keys, placeholder_tokens
+from .legacy_keys import legacy_key
 from .nav2_known import NAV2_KNOWN_NODES, known_node_reason
-from .paramsfile import IgnoredEntry, ParamsFile, Placeholder, PluginSection, ServerParams
+from .paramsfile import (
+    IgnoredEntry,
+    ParamsFile,
+    Placeholder,
+    PluginSection,
+    ServerParams,
+    SkippedKey,
+)
 from .placeholders import resolve_placeholders
 from .plugin_sections import resolve_plugin
 from .schema import validate_section
 from .servers import SERVERS, PluginList, ServerSpec
-from .tree import count_nodes, expand_dotted, line_of
+from .tree import count_nodes, drop_path, expand_dotted, line_of
 
 ROS_PARAMETERS = "ros__parameters"
 
 
-def load_params(path: str | PathLike[str]) -> ParamsFile:
-    """Load and validate a Nav2 params file; any mistake is a located `BtnavError`."""
+def load_params(
+    path: str | PathLike[str], *, strict: str | None = None, warn: bool = True
+) -> ParamsFile:
+    """Load and validate a Nav2 params file; any mistake is a located `BtnavError`.
+
+    Each key Nav2 skips is a `BtnavWarning` (`warn=False`: only listed in `.skipped`);
+    with `strict` (what asked for it: `--strict`, `strict_params: true`) the first is an
+    error instead.
+    """
     p = Path(path)
-    return load_params_doc(load_yaml(p), p)
+    params = load_params_doc(load_yaml(p), p)
+    if strict:
+        refuse_skipped(params, strict)
+    elif warn:
+        for skipped in params.skipped:
+            warnings.warn(skipped.warning(), stacklevel=2)
+    return params
+
+
+def refuse_skipped(params: ParamsFile, why: str) -> None:
+    """Raise the first key Nav2 skips as a located error; `why` names what made it one."""
+    if not params.skipped:
+        return
+    more = len(params.skipped) - 1
+    also = f"; {more} more key{'s' if more > 1 else ''} Nav2 skips" if more else ""
+    raise params.skipped[0].error(f"{why} makes a key Nav2 skips an error{also}")
 
 
 def load_params_doc(doc: Any, path: str | PathLike[str]) -> ParamsFile:
@@ -51,9 +87,11 @@ def load_params_doc(doc: Any, path: str | PathLike[str]) -> ParamsFile:
         )
     count_nodes(doc, file=file)
     try:
-        return _load(doc, Path(path), file)
+        params = _load(doc, Path(path), file)
     except RecursionError:
         raise ParamsError("the params file is nested too deeply", file=file) from None
+    params.skipped.sort(key=lambda s: (s.line or 0, s.key))
+    return params
 
 
 def _load(doc: Mapping[Any, Any], path: Path, file: str) -> ParamsFile:
@@ -75,24 +113,50 @@ def _load(doc: Mapping[Any, Any], path: Path, file: str) -> ParamsFile:
                 )
             section, nesting, section_line = ros_parameters(spec, top, value, line, file)
             server, ignored = build_server(
-                spec, section, nesting, section_line, file, params.placeholders
+                spec,
+                section,
+                nesting,
+                section_line,
+                file,
+                params.placeholders,
+                skipped=params.skipped,
             )
             params.servers[name] = server
             params.ignored += ignored
             continue
         reason = known_node_reason(name) or known_node_reason(top)
         if reason is None:
+            params.skipped.append(_other_node(top, name, value, line, file))
+            continue
+        held = value.get(ROS_PARAMETERS, value) if isinstance(value, Mapping) else value
+        params.ignored.append(entry([top], line, reason, file, held))
+        _note_tokens(held, [top], params.placeholders)
+    return params
+
+
+def _other_node(top: str, name: str, value: Any, line: int | None, file: str) -> SkippedKey:
+    """A top-level name that is no Nav2 node: skipped (Nav2's servers never read it), unless
+    it is a near miss of one (an error), an old node name Nav2 refuses, or not a node's
+    parameters at all (`ros__parameters:` at the top, a plain value)."""
+    legacy = legacy_key("/", name)
+    if legacy is None:
+        near = best_match(name, [*SERVERS, *NAV2_KNOWN_NODES])
+        if near is not None or name == ROS_PARAMETERS or not isinstance(value, Mapping):
             raise ParamsError(
                 f"unknown server '{top}'; btnav implements {', '.join(SERVERS)}",
                 file=file,
                 line=line,
                 key=top,
-                suggestion=best_match(name, [*SERVERS, *NAV2_KNOWN_NODES]),
+                suggestion=near,
             )
-        held = value.get(ROS_PARAMETERS, value) if isinstance(value, Mapping) else value
-        params.ignored.append(entry([top], line, reason, file, held))
-        _note_tokens(held, [top], params.placeholders)
-    return params
+        message = (
+            f"'{top}' is not a Nav2 node, so no Nav2 server reads its parameters; "
+            "Nav2 ignores them too"
+        )
+        return SkippedKey(top, line, message, file, None, (top,))
+    if legacy.refused:
+        raise ParamsError(legacy.message(), file=file, line=line, key=top)
+    return SkippedKey(top, line, legacy.message(), file, legacy.family.value, (top,))
 
 
 def server_name(top: str) -> str:
@@ -187,8 +251,6 @@ def plugin_names(
     """
     defaults = spec.default_names(plist)
     raw: Any = doc.get(plist.key)
-    if raw is None and plist.legacy_key is not None and isinstance(doc.get(plist.legacy_key), str):
-        raw = [doc[plist.legacy_key]]
     if raw is None:
         return defaults, True
     if plist.single:
@@ -209,8 +271,14 @@ def build_server(
     placeholders: list[Placeholder],
     *,
     in_file: bool = True,
+    skipped: list[SkippedKey] | None = None,
 ) -> tuple[ServerParams, list[IgnoredEntry]]:
-    """Validate one server's parameters and resolve its plugin sections."""
+    """Validate one server's parameters and resolve its plugin sections.
+
+    The keys Nav2 would skip go to `skipped` and are taken out of the server's `doc`, so
+    re-validating it (`set_parameters`) sees the section as Nav2 reads it.
+    """
+    found: list[SkippedKey] = []
     doc = expand_dotted(section, list(path), file)
     resolve_placeholders(doc, list(path), placeholders)
     lists: list[tuple[PluginList, list[str], bool]] = []
@@ -228,26 +296,24 @@ def build_server(
                 )
             listed[name] = plist.key
     server_doc, ignored = _server_keys(spec, doc, lists, listed, path, file)
-    model = validate_section(spec.model, server_doc, key_prefix=list(path), file=file)
+    model = validate_section(
+        spec.model, server_doc, key_prefix=list(path), file=file, skipped=found, scope=spec.name
+    )
     ignored += ignored_keys(model, server_doc, list(path), file)
-    for plist in spec.plugin_lists:
-        if plist.legacy_key and plist.legacy_key in server_doc and plist.key in server_doc:
-            ignored.append(
-                entry(
-                    [*path, plist.legacy_key],
-                    line_of(server_doc, plist.legacy_key),
-                    f"an older spelling, superseded by {plist.key} in this section",
-                    file,
-                )
-            )
     plugins: dict[str, PluginSection] = {}
     for plist, names, defaults_apply in lists:
         for name in names:
-            plugin, plugin_ignored = resolve_plugin(plist, name, doc, defaults_apply, path, file)
+            plugin, plugin_ignored = resolve_plugin(
+                plist, name, doc, defaults_apply, path, file, found
+            )
             plugins[name] = plugin
             ignored += plugin_ignored
             if plugin.cls is None and name in doc:
                 _note_tokens(doc[name], [*path, name], placeholders)
+    for skip in found:
+        drop_path(doc, skip.parts[len(path) :])
+    if skipped is not None:
+        skipped += found
     server = ServerParams(
         name=spec.name,
         model=model,

@@ -6,6 +6,7 @@ from pydantic import Field, field_validator, model_validator
 
 from ..core.suggest import best_match
 from ..plugins import canonical
+from .legacy_keys import legacy_value
 from .nav2_known import AMCL_MOTION_MODELS
 from .node import NodeParams
 from .schema import FieldProblem, Frame, ParamsModel, Why, ignored, one_of
@@ -81,6 +82,9 @@ class AmclParams(NodeParams):
     @field_validator("robot_model_type")
     @classmethod
     def _motion_model(cls, value: str) -> str:
+        renamed = legacy_value("amcl", "robot_model_type", value)
+        if renamed is not None:  # Foxy's `differential`: Nav2 stops at start-up on it
+            raise FieldProblem((), renamed)
         if canonical(value) not in {canonical(m) for m in AMCL_MOTION_MODELS}:
             raise FieldProblem(
                 (),

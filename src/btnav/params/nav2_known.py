@@ -1,9 +1,10 @@
 """What btnav knows of Nav2 without implementing it: plugin types, nodes, legacy names.
 
-A params file written for Nav2 names many things btnav does not (yet) run: an
-MPPI controller, a docking server, a keepout filter. Knowing their names lets
-btnav tell "not implemented yet" (the file is fine, the key is listed as ignored)
-apart from a typo (an error with the closest spelling). The names below are the
+A params file written for Nav2 names many things btnav does not (yet) run: a
+docking server, a keepout filter. Knowing their names lets btnav tell "not
+implemented yet" (the file is fine, the key is listed as ignored) apart from a
+typo (an error with the closest spelling). Names Nav2 itself no longer reads are
+in `legacy_keys`. The names below are the
 plugin class names Nav2 exports through pluginlib and the node names its launch
 files start; they are facts about Nav2, kept in one table.
 """
@@ -56,10 +57,7 @@ NAV2_PLUGIN_TYPES: dict[str, tuple[str, ...]] = {
         "nav2_behaviors::DriveOnHeading",
         "nav2_behaviors::Wait",
         "nav2_behaviors::AssistedTeleop",
-        # Nav2 Foxy/Galactic spelled the package nav2_recoveries.
-        "nav2_recoveries::Spin",
-        "nav2_recoveries::BackUp",
-        "nav2_recoveries::Wait",
+        # (Galactic's nav2_recoveries::Spin etc. are in legacy_keys: Nav2 refuses them now.)
     ),
     "costmap_layer": (
         "nav2_costmap_2d::StaticLayer",
@@ -128,7 +126,6 @@ NAV2_KNOWN_NODES: dict[str, str] = {
     "lifecycle_manager_map_server": _LIFECYCLE,
     "lifecycle_manager_keepout_zone": _LIFECYCLE,
     "lifecycle_manager_speed_zone": _LIFECYCLE,
-    "recoveries_server": "Nav2 Humble renamed it behavior_server; btnav reads behavior_server",
     "/**": "wildcard parameters for every ROS node; btnav reads each server's own section",
 }
 

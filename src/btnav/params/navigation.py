@@ -80,8 +80,6 @@ class ControllerServerParams(NodeParams):
     goal_checker_plugins: Names = ["goal_checker"]
     controller_plugins: Names = ["FollowPath"]
     path_handler_plugins: Names = ["PathHandler"]
-    #: Nav2 Humble's spelling: one progress checker, named by a string.
-    progress_checker_plugin: str | None = None
     speed_limit_topic: str = ignored("speed_limit", Why.TOPIC)
     odom_topic: str = ignored("odom", Why.TOPIC)
     use_realtime_priority: bool = ignored(False, Why.REALTIME)

@@ -3,7 +3,7 @@
 Key paths are the ROS parameter paths as the file nests them, without
 `ros__parameters`: `controller_server.controller_frequency`,
 `local_costmap.local_costmap.inflation_layer.inflation_radius`. Errors, the
-ignored list and `apply_overrides` all use this one spelling.
+ignored and skipped lists and `apply_overrides` all use this one spelling.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from typing import Any
 
 import pydantic
 
+from ..core.errors import BtnavWarning, ParamsError, format_place
 from ..core.yaml_io import YamlMap
 from .nav2_known import class_name
 
@@ -94,6 +95,34 @@ class IgnoredEntry:
 
 
 @dataclass(frozen=True)
+class SkippedKey:
+    """A key the file sets that Nav2 does not read, so neither does btnav: one warning each.
+
+    Unlike an `IgnoredEntry` (Nav2 reads it, btnav does not act on it), the run with this
+    key is the run Nav2 makes with it. `family` is the legacy catalogue's (`ROS 1`,
+    `renamed`, `BT port`, `misplaced`), or None for a key no catalogue knows.
+    """
+
+    key: str
+    line: int | None
+    message: str
+    file: str | None = None
+    family: str | None = None
+    #: The key's path as parts (`("controller_server", "FollowPath", "min_rot_vel")`).
+    parts: tuple[str | int, ...] = ()
+
+    def __str__(self) -> str:
+        return format_place(self.file, self.line, self.key, self.message, None)
+
+    def warning(self) -> BtnavWarning:
+        return BtnavWarning(self.message, file=self.file, line=self.line, key=self.key)
+
+    def error(self, why: str) -> ParamsError:
+        """The same sentence as an error (`btnav params check --strict`, `strict_params`)."""
+        return ParamsError(f"{self.message} ({why})", file=self.file, line=self.line, key=self.key)
+
+
+@dataclass(frozen=True)
 class Placeholder:
     """A launch-time placeholder found in the file, and what btnav made of it."""
 
@@ -112,6 +141,8 @@ class ParamsFile:
     servers: dict[str, ServerParams]
     ignored: list[IgnoredEntry] = field(default_factory=list)
     placeholders: list[Placeholder] = field(default_factory=list)
+    #: Keys Nav2 skips too, in file order (a warning each; an error with strict loading).
+    skipped: list[SkippedKey] = field(default_factory=list)
 
     def __contains__(self, name: object) -> bool:
         return name in self.servers

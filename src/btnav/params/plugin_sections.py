@@ -3,10 +3,13 @@
 The section's `plugin:` type is looked up in btnav's registry; a registered
 plugin validates the rest of the section with its own `Params` model. A Nav2
 type btnav knows but has no plugin for is accepted and its keys are listed as
-ignored. Any other type is an error naming the closest known type, as is a listed
-name without a section (unless Nav2 supplies the type by default). A section whose
-keys are another plugin's (`plugin:` switched to DWB over MPPI's keys) is one line
-that says so and names the fix, not a list of every key the new plugin lacks.
+ignored. An old type name Nav2 can no longer load (`nav2_recoveries/Spin`) is an
+error naming the new one; any other type is an error naming the closest known type,
+as is a listed name without a section (unless Nav2 supplies the type by default). A
+section whose keys are another plugin's (`plugin:` switched to DWB over MPPI's keys)
+is one line that says so and names the fix, not a list of every key the new plugin
+lacks. Otherwise a key the plugin does not read is skipped, as Nav2 skips it (one
+warning), unless it is a near miss of one of its keys.
 """
 
 from __future__ import annotations
@@ -24,8 +27,9 @@ from ..core.suggest import best_match
 from ..core.validation import field_names
 from ..core.yaml_io import YamlMap, YamlSeq
 from .ignored import entry, ignored_keys
+from .legacy_keys import legacy_plugin_type, plugin_scope
 from .nav2_known import class_name, known_plugin_type, known_plugin_types
-from .paramsfile import IgnoredEntry, PluginSection
+from .paramsfile import IgnoredEntry, PluginSection, SkippedKey
 from .schema import ParamsModel, validate_section
 from .servers import PluginList
 from .tree import line_of
@@ -65,8 +69,10 @@ def resolve_plugin(
     defaults_apply: bool,
     path: Sequence[str],
     file: str | None,
+    skipped: list[SkippedKey] | None = None,
 ) -> tuple[PluginSection, list[IgnoredEntry]]:
-    """The plugin section `name` of a server whose (expanded) parameters are `doc`."""
+    """The plugin section `name` of a server whose (expanded) parameters are `doc`; the
+    keys Nav2 would skip go to `skipped` (None: they are errors, as before)."""
     key_path = [*path, name]
     section = doc.get(name)
     if section is not None and not isinstance(section, Mapping):
@@ -113,6 +119,14 @@ def resolve_plugin(
             body.key_lines[key] = line_of(section, key)  # type: ignore[assignment]
     line = line_of(doc, name) if section is not None else _list_line(doc, plist, name)
     plugin_line = line_of(section, "plugin") if section is not None else line
+    renamed = legacy_plugin_type(type_name)
+    if renamed is not None:
+        raise ParamsError(
+            renamed.message(type_name),
+            file=file,
+            line=plugin_line,
+            key=[*key_path, "plugin"],
+        )
     cls = _registered(plist, type_name)
     if cls is not None:
         model = getattr(cls, "Params", None)
@@ -121,10 +135,20 @@ def resolve_plugin(
         try:
             params = validate_section(model, body, key_prefix=key_path, file=file)
         except ParamsError:
+            # Another plugin's section is one mistake, said once; else Nav2's way per key.
             foreign = _foreign_section(plist, cls, model, body)
-            if foreign is None:
+            if foreign is not None:
+                raise _foreign_error(type_name, cls, *foreign, file, line, key_path) from None
+            if skipped is None:
                 raise
-            raise _foreign_error(type_name, cls, *foreign, file, line, key_path) from None
+            params = validate_section(
+                model,
+                body,
+                key_prefix=key_path,
+                file=file,
+                skipped=skipped,
+                scope=plugin_scope(plist.kind, type_name),
+            )
         found = PluginSection(
             name, plist.kind, type_name, cls, params, ".".join(key_path), line, plist.key, defaulted
         )

@@ -8,7 +8,8 @@
 - `FieldProblem` lets a cross-key check (`min_particles <= max_particles`) point
   at the key that is wrong instead of at the whole section.
 - `validate_section` runs a model on a YAML section and raises a `ParamsError`
-  with file, line, dotted key and did-you-mean.
+  with file, line, dotted key and did-you-mean; given a `skipped` list, it leaves out
+  the keys Nav2 would skip (each recorded once) instead of refusing them.
 """
 
 from __future__ import annotations
@@ -22,10 +23,13 @@ import pydantic
 from pydantic import AfterValidator, BeforeValidator, ConfigDict, Field, field_validator
 from pydantic_core import PydanticUndefined
 
-from ..core.errors import BtnavError, ParamsError
+from ..core.errors import BtnavError, ParamsError, format_key_path
 from ..core.suggest import best_match
-from ..core.validation import StrictModel, validation_error
+from ..core.validation import StrictModel, _model_at, field_names, validation_error
 from ..core.yaml_io import file_of, line_at, load_yaml_text
+from .legacy_keys import legacy_key
+from .paramsfile import SkippedKey
+from .tree import copy_tree, drop_path
 
 #: json_schema_extra key that marks a field as accepted-but-ignored (value: the reason).
 IGNORED = "btnav_ignored"
@@ -98,14 +102,24 @@ class ParamsModel(StrictModel):
 
 
 class FieldProblem(ValueError):
-    """A cross-key check failed; `key` (relative to the model) is where the user must look."""
+    """A cross-key check failed; `key` (relative to the model) is where the user must look.
+
+    `unknown` marks a key the model does not have (a sub-section's own validation found
+    it): the loader treats it as pydantic's unknown keys, a warning unless it is a near miss.
+    """
 
     def __init__(
-        self, key: str | Sequence[str | int], message: str, suggestion: str | None = None
+        self,
+        key: str | Sequence[str | int],
+        message: str,
+        suggestion: str | None = None,
+        *,
+        unknown: bool = False,
     ) -> None:
         self.key: tuple[str | int, ...] = (key,) if isinstance(key, str) else tuple(key)
         self.message = message
         self.suggestion = suggestion
+        self.unknown = unknown
         super().__init__(message)
 
 
@@ -253,6 +267,7 @@ def section_problem(
             place(loc),
             f"unknown key '{loc[-1]}' for {label}",
             suggestion=best_match(loc[-1], list(model.model_fields)),
+            unknown=True,
         )
     return FieldProblem(place(loc), err["msg"])
 
@@ -263,12 +278,110 @@ def validate_section(
     *,
     key_prefix: Sequence[str | int] = (),
     file: str | None = None,
+    skipped: list[SkippedKey] | None = None,
+    scope: str = "",
 ) -> Any:
-    """Validate one params section; the first problem becomes a located `ParamsError`."""
-    try:
-        return model.model_validate(doc if doc is not None else {})
-    except pydantic.ValidationError as exc:
-        raise _params_error(exc, model, doc, key_prefix, file) from None
+    """Validate one params section; the first problem becomes a located `ParamsError`.
+
+    With a `skipped` list, a key the model does not have is handled as Nav2 handles it:
+    left unread, recorded in `skipped` (one warning each) and validated without. A near
+    miss of a real key (did-you-mean finds one) stays the error, unless the catalogue of
+    legacy names (`legacy_keys`, looked up in `scope`) knows the key: a catalogue hit
+    wins, and a name Nav2 refuses is an error naming what to write instead.
+    """
+    work = doc if doc is not None else {}
+    copied = False
+    while True:
+        try:
+            return model.model_validate(work)
+        except pydantic.ValidationError as exc:
+            found = None
+            if skipped is not None:
+                found = _skippable(exc, model, work, key_prefix, file or file_of(doc), scope)
+            if skipped is None or not found:
+                raise _params_error(exc, model, work, key_prefix, file) from None
+            if not copied:  # the caller's document stays as the file wrote it
+                work = copy_tree(work, file or file_of(doc))
+                copied = True
+            for entry, path in found:
+                drop_path(work, path)
+                skipped.append(entry)
+
+
+def _unknown_key(
+    err: Any, model: type[pydantic.BaseModel], doc: Any
+) -> tuple[list[str | int], str, str | None, str | None] | None:
+    """(path in the document, the key, the closest real key, the sub-model's own sentence)
+    when `err` is about a key the model does not have; None for any other problem."""
+    loc = tuple(err["loc"])
+    if err["type"] == "extra_forbidden" and loc:
+        path = _doc_path(doc, loc)
+        if not path or path[-1] != loc[-1]:
+            return None
+        candidates = [n for m in _model_at(model, loc[:-1]) for n in field_names(m)]
+        return path, str(loc[-1]), best_match(str(loc[-1]), candidates), None
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, FieldProblem) and cause.unknown and cause.key:
+        path = _doc_path(doc, [*loc, *cause.key])
+        if not path or path[-1] != cause.key[-1]:
+            return None
+        return path, str(cause.key[-1]), cause.suggestion, cause.message
+    return None
+
+
+def _skippable(
+    exc: pydantic.ValidationError,
+    model: type[pydantic.BaseModel],
+    doc: Any,
+    key_prefix: Sequence[str | int],
+    file: str | None,
+    scope: str,
+) -> list[tuple[SkippedKey, list[str | int]]] | None:
+    """The unknown keys Nav2 would skip, when the first problem is one of them; else None
+    (the first problem is a near miss or a wrong value: the caller raises it). A legacy
+    name Nav2 refuses raises here."""
+    errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
+    out: list[tuple[SkippedKey, list[str | int]]] = []
+    for i, err in enumerate(errors):
+        unknown = _unknown_key(err, model, doc)
+        if unknown is None:
+            if i == 0:
+                return None
+            continue
+        path, name, suggestion, sentence = unknown
+        key = [*key_prefix, *path]
+        line = line_at(doc, path)
+        legacy = legacy_key(scope, name)
+        if legacy is not None and legacy.refused:
+            if i == 0:
+                raise ParamsError(legacy.message(scope), file=file, line=line, key=key)
+            continue
+        if legacy is None and suggestion is not None:  # a near miss: the user's typo
+            if i == 0:
+                return None
+            continue
+        if legacy is not None:
+            message, family = legacy.message(scope, _value_at(doc, path)), legacy.family.value
+        else:
+            what = sentence or f"unknown key '{name}' (not a parameter {_reader(scope)} reads)"
+            message, family = f"{what}; Nav2 ignores it too", None
+        skip = SkippedKey(format_key_path(key) or name, line, message, file, family, tuple(key))
+        out.append((skip, path))
+    return out
+
+
+def _value_at(doc: Any, path: Sequence[str | int]) -> Any:
+    node = doc
+    for part in path:
+        node = node[part]
+    return node
+
+
+def _reader(scope: str) -> str:
+    """Who reads a scope's keys, for a sentence: `DWBLocalPlanner`, `controller_server`."""
+    if not scope:
+        return "this section"
+    return scope.rsplit("/", 1)[-1] if ":" in scope else scope
 
 
 def _params_error(

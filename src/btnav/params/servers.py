@@ -39,8 +39,6 @@ class PluginList:
     default_types: Mapping[str, str] = field(default_factory=dict)
     #: One name as a string (`waypoint_task_executor_plugin`), not a list.
     single: bool = False
-    #: An older spelling still accepted (`progress_checker_plugin`, a string).
-    legacy_key: str | None = None
     #: Nav2 declares the default types whatever the list holds (waypoint_follower).
     always_default_types: bool = False
     #: False: btnav has no such plugins at all (costmap filters); sections are ignored.
@@ -106,7 +104,6 @@ SERVERS: dict[str, ServerSpec] = {
                     "progress_checker_plugins",
                     "progress_checker",
                     {"progress_checker": "nav2_controller::SimpleProgressChecker"},
-                    legacy_key="progress_checker_plugin",
                 ),
                 PluginList(
                     "goal_checker_plugins",

@@ -163,3 +163,16 @@ def section_keys(node: Any) -> tuple[str, ...]:
     if isinstance(node, Mapping):
         return tuple(str(k) for k in node)
     return ()
+
+
+def drop_path(root: Any, parts: Sequence[str | int]) -> None:
+    """Delete the key at `parts` below `root`, if it is there (a key Nav2 skips, taken out)."""
+    node = root
+    for part in parts[:-1]:
+        in_map = isinstance(node, Mapping) and part in node
+        in_list = isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node)
+        if not (in_map or in_list):
+            return
+        node = node[part]
+    if parts and isinstance(node, dict) and parts[-1] in node:
+        del node[parts[-1]]

@@ -3,7 +3,8 @@
 Both write the new values into a copy of the document and validate it exactly as
 a file is validated, so a value is never accepted by one path and refused by the
 other. An error about a changed value names where the value came from
-(`--set`, `set_parameters`) instead of a file line it was never on.
+(`--set`, `set_parameters`) instead of a file line it was never on. A key set this
+way that Nav2 does not read is an error, not a warning: the change would do nothing.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from .loader import (
     server_spec,
 )
 from .nav2_known import NAV2_KNOWN_NODES, known_node_reason
-from .paramsfile import ParamsFile, ServerParams
+from .paramsfile import ParamsFile, ServerParams, SkippedKey
 from .servers import SERVERS
 from .tree import copy_tree, set_path
 
@@ -56,9 +57,7 @@ def validate_update(params: ParamsFile, server: str, changes: Mapping[str, Any])
     spec = server_spec(server)
     current = params.server(spec.name)
     doc = copy_tree(current.doc) if current.doc is not None else YamlMap()
-    frozen = {p.key for p in spec.plugin_lists} | {
-        p.legacy_key for p in spec.plugin_lists if p.legacy_key
-    }
+    frozen = {p.key for p in spec.plugin_lists}
     changed: list[str] = []
     for key, value in changes.items():
         parts = _parts(key)
@@ -70,10 +69,19 @@ def validate_update(params: ParamsFile, server: str, changes: Mapping[str, Any])
             )
         set_path(doc, parts, value, full)
         changed.append(full)
+    skipped: list[SkippedKey] = []
     try:
         updated, ignored = build_server(
-            spec, doc, current.path, current.line, str(params.path), [], in_file=current.in_file
+            spec,
+            doc,
+            current.path,
+            current.line,
+            str(params.path),
+            [],
+            in_file=current.in_file,
+            skipped=skipped,
         )
+        _refuse_set_skips(skipped, changed)
     except ParamsError as err:
         raise _relocate(err, changed, "set_parameters") from None
     params.servers[spec.name] = updated
@@ -100,9 +108,27 @@ def apply_overrides(params: ParamsFile, overrides: Mapping[str, Any]) -> ParamsF
         set_path(raw, [*node_path, ROS_PARAMETERS, *rest], value, key)
         changed.append(".".join([*node_path, *rest]))
     try:
-        return load_params_doc(raw, params.path)
+        updated = load_params_doc(raw, params.path)
+        _refuse_set_skips(updated.skipped, changed)
     except ParamsError as err:
         raise _relocate(err, changed, "--set") from None
+    return updated
+
+
+def _refuse_set_skips(skipped: Sequence[SkippedKey], changed: Sequence[str]) -> None:
+    """A key set by hand that Nav2 does not read is an error: the setting would change nothing.
+
+    (In a file the same key is only a warning: Nav2 runs that file, and so does btnav.)
+    """
+    for skip in skipped:
+        if any(_under(skip.key, c) or _under(c, skip.key) for c in changed):
+            name = skip.parts[-1] if skip.parts else skip.key
+            known = f" ({skip.message})" if skip.family else ""
+            raise ParamsError(
+                f"unknown key '{name}', which Nav2 does not read either: setting it "
+                f"changes nothing{known}",
+                key=skip.key,
+            )
 
 
 def _override_target(raw: YamlMap, key: str) -> tuple[list[str], list[str]]:
