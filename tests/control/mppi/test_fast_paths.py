@@ -81,7 +81,7 @@ def test_predict_and_constraints_match_the_broadcast_limits():
         u = RNG.normal(0.0, 0.6, (56, C, 300)).astype(np.float32)
         lo, hi = model._limits()
         clipped = np.clip(u, lo, hi)
-        model.apply_constraints(u)
+        model.apply_velocity_limits(u)
         assert np.array_equal(u.view(np.uint32), clipped.view(np.uint32))
         speed = np.array([0.3, -0.2, 0.1][:C], np.float32)
         u2, v, v2 = u.copy(), np.empty_like(u), np.empty_like(u)

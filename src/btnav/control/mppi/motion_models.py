@@ -5,6 +5,20 @@ Controls and velocities are (time_steps, channels, batch_size) float32, channels
 contiguous block and the step-by-step acceleration loop costs one ufunc call per
 operation for all channels at once. The optimizer hands critics (batch_size,
 time_steps) views.
+
+Two kinds of limit, applied where Nav2 applies them:
+
+- `apply_velocity_limits` clips the sampled controls to the velocity box. Nav2 leaves
+  its samples raw and lets the ConstraintCritic penalise what leaves the box; btnav
+  clips them (the trajectories its tests pin were made so), for every model alike.
+- `apply_constraints` is Nav2's `MotionModel::applyConstraints`: the model's own hard
+  limit, applied to the optimal control sequence only (after the softmax, and again
+  as the last step before the command is read). A diff-drive or omni robot has none;
+  an Ackermann one bounds |wz| by |vx| / min_turning_r. Applying that to every sample
+  instead would be wrong: with wz_std (0.4) above the bound (0.3 rad/s at 0.3 m/s and
+  1 m), nearly every sample's wz is clipped to +-|vx| / r, its sign drawn afresh at
+  each step, so no sample turns steadily and their weighted mean hardly turns (the
+  racecar was commanded |wz| <= 0.09 rad/s on a 1.2 m arc that needs 0.25, measured).
 """
 
 from __future__ import annotations
@@ -21,7 +35,8 @@ from ...plugins import Plugin, register
 
 F32 = NDArray[np.float32]
 
-VX, WZ, VY = 0, 1, 2  # channel order
+VX, WZ, VY = 0, 1, 2  # channel order of sampled controls and velocities (T, C, B)
+SEQ_VX, SEQ_VY, SEQ_WZ = 0, 1, 2  # column order of the control sequence (T, 3), as a Twist
 
 
 @dataclass
@@ -64,12 +79,16 @@ class MotionModel(Plugin):
         hi = [c.vx_max, c.wz_max, c.vy_max][: self.channels]
         return np.array(lo, np.float32)[:, None], np.array(hi, np.float32)[:, None]
 
-    def apply_constraints(self, u: F32) -> None:
-        """Clip controls (T, C, B) to the velocity limits, in place (channel by channel:
-        scalar bounds clip ~2x faster than broadcast (C, 1) ones, to the same values)."""
+    def apply_velocity_limits(self, u: F32) -> None:
+        """Clip sampled controls (T, C, B) to the velocity limits, in place (channel by
+        channel: scalar bounds clip ~2x faster than broadcast (C, 1) ones, to the same values)."""
         lo, hi = self._limits()
         for ch in range(u.shape[1]):
             np.clip(u[:, ch], lo[ch, 0], hi[ch, 0], out=u[:, ch])
+
+    def apply_constraints(self, control_sequence: NDArray[np.float32]) -> None:
+        """The model's hard limits on the optimal control sequence (T, 3: vx, vy, wz), in
+        place; Nav2's `applyConstraints`. None for a diff-drive or omni robot."""
 
     def _accel_steps(self, batch: int) -> tuple[F32, F32, bool]:
         """The largest speed change per step up and down as (C, batch) rows, and whether
@@ -170,10 +189,11 @@ class AckermannMotionModel(MotionModel):
     def min_turning_r(self) -> float:  # type: ignore[override]
         return float(self.params.min_turning_r)
 
-    def apply_constraints(self, u: F32) -> None:
-        super().apply_constraints(u)
-        limit = np.abs(u[:, VX]) / np.float32(self.min_turning_r)
-        np.clip(u[:, WZ], -limit, limit, out=u[:, WZ])
+    def apply_constraints(self, control_sequence: NDArray[np.float32]) -> None:
+        """|wz| <= |vx| / min_turning_r at every step of the sequence (its columns vx, vy, wz)."""
+        cs = control_sequence
+        limit = np.abs(cs[:, SEQ_VX]) / np.float32(self.min_turning_r)
+        np.clip(cs[:, SEQ_WZ], -limit, limit, out=cs[:, SEQ_WZ])
 
 
 def make_motion_model(

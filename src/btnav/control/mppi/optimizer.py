@@ -5,15 +5,20 @@ One cycle, all batch-wide numpy on float32:
 1. noise: `batch_size` perturbations of the current control sequence (noise.py);
 2. controls clipped to the velocity limits, then the acceleration limits applied
    step by step from the robot's current speed (motion_models.py) - the only loop,
-   over `time_steps`, each step a row of `batch_size` values;
+   over `time_steps`, each step a row of `batch_size` values; the motion model's own
+   constraint (an Ackermann robot's turning radius) is not applied to the samples
+   (the ConstraintCritic scores it there), only to the optimal sequence, as in Nav2;
 3. rollouts by cumulative sums: yaw = yaw0 + cumsum(wz dt), then x, y by cumsum of
    v cos/sin(previous yaw) dt;
 4. critics add their costs (critics/);
 5. the control cost `gamma / std^2 * sum(noise * control)` per rollout, then softmax
    weights `exp(-(cost - min) / temperature)` normalised, and the new control
-   sequence is the weighted mean of the sampled controls (a matrix-vector product);
-6. repeated `iteration_count` times; then Savitzky-Golay smoothing, the command
-   read at the model delay, and the sequence shifted one step for the next cycle.
+   sequence is the weighted mean of the sampled controls (a matrix-vector product),
+   clipped to the velocity limits and the motion model's constraints;
+6. repeated `iteration_count` times; then Savitzky-Golay smoothing, the motion
+   model's constraints once more (Nav2 main applies them last, so a smoothed car
+   command never turns tighter than it can), the command read at the model delay,
+   and the sequence shifted one step for the next cycle.
 
 Storage is (time_steps, batch_size) C-order; critics get (batch_size, time_steps)
 views (`.T`), the shape Nav2's critics index.
@@ -141,6 +146,7 @@ class Optimizer:
                     "MPPI: no valid control: every rollout or the optimal path collides"
                 )
         savitzky_golay(self.control_sequence, self.control_history)
+        self.model.apply_constraints(self.control_sequence)
         command = self._command()
         self.control_history[:-1] = self.control_history[1:]
         self.control_history[-1] = self.control_sequence[0]
@@ -164,10 +170,11 @@ class Optimizer:
     ) -> CriticData:
         s, u, v = self.s, self.u, self.v
         # Sampled controls: the current sequence plus noise, then the velocity limits,
-        # then the acceleration limits from the robot's current speed.
+        # then the acceleration limits from the robot's current speed. Not the model's
+        # constraints: Nav2 applies those to the optimal sequence only.
         self.noise.sample(out=u)
         np.add(u, self._sequence_channels(), out=u)
-        self.model.apply_constraints(u)
+        self.model.apply_velocity_limits(u)
         speeds = np.array([speed[0], speed[2], speed[1]][: self.model.channels], np.float32)
         self.model.predict(u, v, speeds)
         self._rollouts(robot, v)
@@ -265,9 +272,7 @@ class Optimizer:
         np.clip(cs[:, 0], c.vx_min, c.vx_max, out=cs[:, 0])
         np.clip(cs[:, 2], -c.wz_max, c.wz_max, out=cs[:, 2])
         np.clip(cs[:, 1], -c.vy_max, c.vy_max, out=cs[:, 1])
-        if self.model.min_turning_r is not None:
-            lim = np.abs(cs[:, 0]) / np.float32(self.model.min_turning_r)
-            np.clip(cs[:, 2], -lim, lim, out=cs[:, 2])
+        self.model.apply_constraints(cs)
 
     # -- the optimal trajectory -------------------------------------------------------
 

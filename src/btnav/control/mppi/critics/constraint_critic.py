@@ -15,8 +15,10 @@ class ConstraintCritic(CriticFunction):
     """Sum over the horizon of how far vx leaves [vx_min, vx_max], times model_dt.
 
     With an Ackermann model, also how far the turning radius |vx / wz| falls below
-    `min_turning_r`. The motion model already clips sampled controls, so this
-    mostly acts while the robot's current speed is beyond the limits.
+    `min_turning_r`: the samples are left free to turn tighter (the model constrains
+    only the optimal sequence, as Nav2's does), so this term is what steers the batch
+    away from turns the car cannot make. The optimizer clips the samples to the velocity
+    box, so the vx terms mostly act while the robot's current speed is beyond the limits.
     """
 
     class Params(CriticFunction.Params):
