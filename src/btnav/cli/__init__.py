@@ -88,7 +88,9 @@ def _tree_palette(args: argparse.Namespace) -> int:
 def _robot_show(args: argparse.Namespace) -> int:
     from .robot import robot_main
 
-    return robot_main(args.file, args.package or (), args.arg or (), as_json=args.json)
+    return robot_main(
+        args.file, args.package or (), args.arg or (), args.model_path or (), as_json=args.json
+    )
 
 
 def _frames_of_world(args: argparse.Namespace) -> int:
@@ -304,7 +306,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     robot = _group(sub, "robot", "robot descriptions (URDF, xacro, Gazebo SDF)")
     rshow = robot.add_parser("show", help="print what btnav reads from a robot description")
-    rshow.add_argument("file", help="a .urdf, .xacro or model.sdf (or a Gazebo model folder)")
+    rshow.add_argument(
+        "file", help="a .urdf, .xacro or model.sdf, a Gazebo model folder, or model://NAME"
+    )
     rshow.add_argument(
         "--package",
         action="append",
@@ -313,6 +317,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     rshow.add_argument(
         "--arg", action="append", metavar="NAME=VALUE", help="a xacro arg; repeatable"
+    )
+    rshow.add_argument(
+        "--model-path",
+        action="append",
+        metavar="DIR",
+        help="a folder model:// is looked up in; repeatable",
     )
     rshow.add_argument("--json", action="store_true", help="print one JSON object")
     rshow.set_defaults(func=_robot_show)

@@ -1,4 +1,4 @@
-"""`btnav robot show FILE [--package NAME=DIR] [--arg NAME=VALUE] [--json]`.
+"""`btnav robot show FILE [--package NAME=DIR] [--arg NAME=VALUE] [--model-path DIR] [--json]`.
 
 Prints what btnav reads from a URDF, xacro or Gazebo SDF robot description: the drive
 (and where it was read), the footprint, the wheel separation and radius or the
@@ -15,7 +15,7 @@ from collections.abc import Iterable
 from typing import Any, TextIO
 
 from ..core.errors import BtnavError
-from ..description import PackagePaths, RobotDescription, load_description
+from ..description import ModelPaths, PackagePaths, RobotDescription, load_description
 from . import EXIT_OK
 
 
@@ -144,6 +144,7 @@ def robot_main(
     file: str,
     packages: Iterable[str] = (),
     xacro_args: Iterable[str] = (),
+    model_paths: Iterable[str] = (),
     *,
     as_json: bool = False,
     out: TextIO | None = None,
@@ -156,7 +157,7 @@ def robot_main(
     except BtnavError as err:
         raise err.located(file="--package") from None
     args = parse_assignments(xacro_args, "--arg", "NAME=VALUE")
-    desc = load_description(file, paths, args)
+    desc = load_description(file, paths, args, ModelPaths.from_list(list(model_paths)))
     if as_json:
         print(json.dumps(description_dict(desc), indent=2), file=out)
     else:

@@ -123,7 +123,8 @@ def _lidar(block: Block, poses: dict[str, Transform], model: RobotModel) -> Lida
         )
         rate = DEFAULT_RATE
     assert block.link is not None
-    mount = compose(poses[block.link], sdf_pose(s.find("pose"), sources))
+    local = block.pose if block.pose is not None else sdf_pose(s.find("pose"), sources)
+    mount = compose(poses[block.link], local)
     if up_of(mount) < 1.0 - 1e-6:
         warnings.warn(
             BtnavWarning(

@@ -2,10 +2,12 @@
 
 The file is parsed with the line of every element kept; a xacro file (a `.xacro` name,
 or a top element that declares the xacro namespace, as ROS 2 TurtleBot3 URDFs do) is
-expanded by xacrodoc first. A `<robot>` is read as URDF, an `<sdf>` as a Gazebo model;
-a Gazebo model folder (with `model.config`) is read through its `model.sdf`. The base
-frame is the `base_footprint` link, else `base_link`, else the root link; the footprint,
-drive, lidars and frames are then computed in it.
+expanded by xacrodoc first. A `<robot>` is read as URDF, an `<sdf>` as a Gazebo model
+(its `<include>`s expanded); a Gazebo model folder, or `model://NAME` found through the
+model paths, is read through the SDF file its `model.config` picks. The base frame is
+the `base_footprint` link, else `base_link` (in a wrapper model, the least nested one),
+else the root link; the footprint (collision meshes read through the same package and
+model paths), drive, lidars and frames are then computed in it.
 """
 
 from __future__ import annotations
@@ -13,16 +15,16 @@ from __future__ import annotations
 import dataclasses
 import os
 import xml.dom.minidom
-import xml.etree.ElementTree as ET
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from .drive_joints import read_drive_joints
-from .errors import DescriptionError
 from .footprint import read_footprint
 from .gazebo_plugins import read_drive_plugin
 from .gazebo_sensors import read_lidars
+from .meshes import MeshSources
 from .model import RobotModel
+from .model_paths import SCHEME, ModelPaths, model_file
 from .packages import PackagePaths
 from .robot_description import DriveDescription, LinkFrame, RobotDescription
 from .sdf_reader import read_sdf
@@ -35,27 +37,6 @@ from .xml_values import error, tag
 BASE_FRAMES = ("base_footprint", "base_link")
 #: Frame poses are rounded to a nanometre (see `gazebo_sensors.DECIMALS`).
 DECIMALS = 9
-
-
-def _model_file(folder: Path) -> Path:
-    """The SDF file of a Gazebo model folder: model.sdf, else the first one model.config names."""
-    if (folder / "model.sdf").is_file():
-        return folder / "model.sdf"
-    config = folder / "model.config"
-    if config.is_file():
-        try:
-            root = ET.fromstring(config.read_bytes())
-        except ET.ParseError as exc:
-            raise DescriptionError(
-                f"model.config is not well-formed XML: {exc}", file=config
-            ) from None
-        for sdf in root.iter("sdf"):
-            if sdf.text and (folder / sdf.text.strip()).is_file():
-                return folder / sdf.text.strip()
-    raise DescriptionError(
-        "a folder is read as a Gazebo model: it needs a model.sdf (or a model.config naming one)",
-        file=folder,
-    )
 
 
 def _is_xacro(path: Path, doc: xml.dom.minidom.Document) -> bool:
@@ -102,19 +83,34 @@ def _frames(model: RobotModel, poses: dict[str, Transform], base: str) -> tuple[
     return tuple(out)
 
 
+def _model_paths(
+    given: ModelPaths | Sequence[str | os.PathLike[str]] | None,
+) -> ModelPaths:
+    return given if isinstance(given, ModelPaths) else ModelPaths.from_list(given)
+
+
 def load_description(
     path: str | os.PathLike[str],
     package_paths: PackagePaths | Mapping[str, str | os.PathLike[str]] | None = None,
     args: Mapping[str, object] | None = None,
+    model_paths: ModelPaths | Sequence[str | os.PathLike[str]] | None = None,
 ) -> RobotDescription:
     """Read a URDF, xacro or SDF robot description; any mistake is a located `DescriptionError`.
 
-    `package_paths` maps package names to folders (for `$(find ...)`), `args` gives xacro
-    args (`name:=value` on xacro's command line); values become strings as xacro takes them.
+    `path` is a file, a Gazebo model folder or `model://NAME`. `package_paths` maps
+    package names to folders (for `$(find ...)` and `package://`), `args` gives xacro
+    args (`name:=value` on xacro's command line; values become strings as xacro takes
+    them), `model_paths` lists the folders `model://` is looked up in first.
     """
-    p = Path(path)
-    if p.is_dir():
-        p = _model_file(p)
+    models = _model_paths(model_paths)
+    models.check()
+    if str(path).startswith(SCHEME):
+        p = models.model_sdf(str(path))
+    else:
+        p = Path(path)
+        if p.is_dir():
+            p = model_file(p)
+    models = models.beside(p)
     packages = (
         package_paths
         if isinstance(package_paths, PackagePaths)
@@ -134,17 +130,19 @@ def load_description(
         doc = expand_xacro(p, data, sources, packages, xargs)
         top = to_element_tree(doc)
         kind = "sdf" if tag(top) == "sdf" else "xacro"
+    else:
+        packages.install(p)  # package:// meshes
     if tag(top) == "robot":
         model = read_urdf(top, sources, str(p))
     elif tag(top) == "sdf":
-        model = read_sdf(top, sources, str(p))
+        model = read_sdf(top, sources, str(p), models)
     else:
         raise error(
             f"<{tag(top)}> is not a robot description: expected a URDF <robot> or an SDF <sdf>",
             top,
             sources,
         )
-    base = next((b for b in BASE_FRAMES if b in model.links), model.root)
+    base = next((found for b in BASE_FRAMES if (found := model.find(b))), model.root)
     poses = model.relative_to(base)
     return RobotDescription(
         name=model.name,
@@ -152,7 +150,7 @@ def load_description(
         kind=kind,
         base_frame=base,
         frames=_frames(model, poses, base),
-        footprint=read_footprint(model, poses),
+        footprint=read_footprint(model, poses, MeshSources(packages, models)),
         drive=_drive(model, poses),
         lidars=read_lidars(model, poses),
     )

@@ -62,6 +62,9 @@ class Block:
     element: ET.Element
     file: str | None
     line: int | None
+    #: A sensor's pose in its link when the reader resolved it (SDF `relative_to`);
+    #: None: its own `<pose>`, read as in the link.
+    pose: Transform | None = None
 
 
 @dataclass
@@ -140,6 +143,14 @@ class RobotModel:
                 file=j.file,
                 line=j.line,
             )
+
+    def find(self, name: str) -> str | None:
+        """Link `name`, else the least nested link of that name in a nested SDF model
+        (`robot::base_link` when a wrapper model includes the robot), else None."""
+        if name in self.links:
+            return name
+        nested = [n for n in self.links if n.rsplit("::", 1)[-1] == name]
+        return min(nested, key=lambda n: n.count("::"), default=None)
 
     def parent_joint(self, link: str) -> Joint | None:
         return self._parent.get(link)

@@ -146,13 +146,18 @@ class RobotDescription:
         btnav's `base_footprint` and `base_link` coincide and stand for the base frame, so
         a link hanging from the base frame (or from `base_link`) goes under `base_link` at
         its base-frame pose; every other link under its own parent. Composing them gives
-        each link's base-frame pose (what `frames` holds).
+        each link's base-frame pose (what `frames` holds). When the base is a nested SDF
+        model's (`robot::base_footprint`), that model's `robot::base_link` is btnav's too.
         """
+        own = set(OWN_FRAMES) | {self.base_frame}
+        scope, _, _ = self.base_frame.rpartition("::")
+        if scope:
+            own |= {f"{scope}::{name}" for name in OWN_FRAMES}
         out: list[tuple[str, str, Pose]] = []
         for parent, child, pose in self.frame_edges():
-            if child in OWN_FRAMES or child == self.base_frame:
+            if child in own:
                 continue
-            if parent in OWN_FRAMES or parent == self.base_frame:
+            if parent in own:
                 f = self.frame(child)
                 out.append(("base_link", child, (f.x, f.y, f.yaw)))
             else:

@@ -29,7 +29,7 @@ from ..core.errors import BtnavError, BtnavWarning, WorldError
 from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import YamlMap, line_at, load_yaml, load_yaml_text
-from ..description import PackagePaths, RobotDescription, load_description
+from ..description import ModelPaths, PackagePaths, RobotDescription, load_description
 
 #: Coordinates beyond this (metres) are a mistake, not a building; it also keeps
 #: pymunk and the rasteriser away from float overflow.
@@ -400,8 +400,9 @@ def _read_description(data: Any) -> Any:
 
     What the description gives (footprint, drive and its parameters, lidars, the drive
     plugin's limits) fills only the keys the world file leaves out: a key written in
-    the world wins. The file, `package_paths` and xacro args resolve from the world
-    file's folder; a description that cannot be read is its own located error.
+    the world wins. The file, `package_paths`, `model_paths` and xacro args resolve from
+    the world file's folder (`description: model://NAME` through the model paths); a
+    description that cannot be read is its own located error.
     """
     if not isinstance(data, dict) or data.get("description") is None:
         return data
@@ -415,15 +416,24 @@ def _read_description(data: Any) -> Any:
         return dict(file=file, line=line, key=["robot", key])
 
     path, paths, args = data["description"], data.get("package_paths"), data.get("xacro_args")
+    folders = data.get("model_paths")
     if not isinstance(path, str) or not path.strip():
         raise WorldError(
-            "description is the path of a URDF, xacro or Gazebo SDF file", **where("description")
+            "description is the path of a URDF, xacro or Gazebo SDF file, or model://NAME",
+            **where("description"),
         )
     if paths is not None and not (
         isinstance(paths, dict) and all(isinstance(v, str) for v in paths.values())
     ):
         raise WorldError(
             "package_paths maps package names to folders: {name: dir}", **where("package_paths")
+        )
+    if folders is not None and not (
+        isinstance(folders, list) and all(isinstance(v, str) for v in folders)
+    ):
+        raise WorldError(
+            "model_paths lists the folders model:// is looked up in: [dir, ...]",
+            **where("model_paths"),
         )
     if args is not None and not (
         isinstance(args, dict)
@@ -432,16 +442,29 @@ def _read_description(data: Any) -> Any:
         raise WorldError(
             "xacro_args maps arg names to values: {name: value}", **where("xacro_args")
         )
-    target = Path(path).expanduser()
-    target = target if target.is_absolute() else Path(os.path.normpath(base / target))
-    if not target.exists():
-        raise WorldError(f"robot description not found: {target}", **where("description"))
+    try:
+        models = ModelPaths.from_list(folders, base)
+        models.check()
+    except BtnavError as err:
+        raise WorldError(err.message, **where("model_paths")) from None
+    if path.strip().startswith("model://"):
+        try:
+            target = models.model_sdf(path.strip())
+        except BtnavError as err:
+            raise WorldError(
+                err.message, suggestion=err.suggestion, **where("description")
+            ) from None
+    else:
+        target = Path(path).expanduser()
+        target = target if target.is_absolute() else Path(os.path.normpath(base / target))
+        if not target.exists():
+            raise WorldError(f"robot description not found: {target}", **where("description"))
     try:
         packages = PackagePaths.from_mapping(paths, base)
         packages.check()
     except BtnavError as err:
         raise WorldError(err.message, **where("package_paths")) from None
-    desc = load_description(target, packages, args)
+    desc = load_description(target, packages, args, models)
 
     merged = YamlMap(data, file=file, line=getattr(data, "line", None))
     merged.key_lines = dict(getattr(data, "key_lines", {}))
@@ -452,8 +475,9 @@ def _read_description(data: Any) -> Any:
         else:
             warnings.warn(
                 BtnavWarning(
-                    f"the description {desc.file} has no collision geometry (box, cylinder, "
-                    f"sphere) on its base link, so the robot's footprint is the default "
+                    f"the description {desc.file} has no collision geometry btnav can read "
+                    "(box, cylinder, sphere, or a mesh with btnav[meshes]) on its base link, "
+                    "so the robot's footprint is the default "
                     f"{{radius: {DEFAULT_FOOTPRINT_RADIUS:g}}}; give the world's robot a "
                     "`footprint:`",
                     **where("description"),
@@ -492,6 +516,9 @@ class RobotSpec(StrictModel):
     description: Any = None
     #: Folders of the ROS packages the description names (`$(find pkg)`, `package://`).
     package_paths: dict[str, str] = Field(default_factory=dict)
+    #: Folders `model://NAME` is looked up in (each holding `NAME/model.config`), before
+    #: GZ_SIM_RESOURCE_PATH and GAZEBO_MODEL_PATH.
+    model_paths: list[str] = Field(default_factory=list)
     #: The description's xacro args (`name:=value` on xacro's command line).
     xacro_args: dict[str, str | int | float | bool] = Field(default_factory=dict)
     #: The drive plugin: its name (`diff_drive`, `ackermann`, `omni`, a user's), or a
