@@ -178,6 +178,10 @@ def build_solids(spec: WorldSpec) -> list[Solid]:
             solids.append(
                 Solid(label, key, origin, convex_parts(local), [local], moves=shape.moves)
             )
+    for i, (x0, y0, x1, y1) in enumerate(spec.map_boxes):  # a world made from a map image
+        origin = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+        corners = box_corners((0.0, 0.0), (x1 - x0, y1 - y0), 0.0)
+        solids.append(Solid(f"map cells [{i}]", ("map", i), origin, [corners], [corners]))
     return solids
 
 

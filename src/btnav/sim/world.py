@@ -43,9 +43,9 @@ class Contact:
 
     time: float  # sim seconds at the end of the physics step that made the contact
     pose: Pose2D  # the robot's ground-truth pose then
-    hit: str  # "wall" or "obstacle"
-    index: int  # in the world file's `walls:` or `obstacles:` list
-    kind: str  # box, circle or polygon; a wall is a "polyline"
+    hit: str  # "wall", "obstacle", or "map" (a world made from a map image)
+    index: int  # in the world file's `walls:` or `obstacles:` list (a map: its rectangle)
+    kind: str  # box, circle or polygon; a wall is a "polyline", a map's cells "map cells"
     line: int | None  # of that list item in the world file
 
     @property
@@ -216,11 +216,16 @@ class World:
     def _contact(self, index: int) -> Contact:
         solid = self.solids[index]
         what, i = solid.key[0], int(solid.key[1])
-        kind = self.spec.obstacles[i].kind if what == "obstacles" else "polyline"
+        if what == "obstacles":
+            hit, kind = "obstacle", self.spec.obstacles[i].kind
+        elif what == "walls":
+            hit, kind = "wall", "polyline"
+        else:  # a world made from a map image
+            hit, kind = "map", "map cells"
         return Contact(
             time=self._ns_after_step / NS_PER_S,
             pose=self.robot.pose,
-            hit="wall" if what == "walls" else "obstacle",
+            hit=hit,
             index=i,
             kind=kind,
             line=self.spec.line_of(*solid.key),

@@ -30,6 +30,8 @@ from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
 from ..core.yaml_io import YamlMap, line_at, load_yaml, load_yaml_text
 from ..description import ModelPaths, PackagePaths, RobotDescription, load_description
+from ..maps import load_map
+from ..maps.occupied_rectangles import occupied_rectangles
 
 #: Coordinates beyond this (metres) are a mistake, not a building; it also keeps
 #: pymunk and the rasteriser away from float overflow.
@@ -579,10 +581,45 @@ class RobotSpec(StrictModel):
         return v
 
 
+def _map_geometry(doc: Any, file: str | None) -> np.ndarray:
+    """The rectangles of the occupied cells of the world's `map:` (and, when the world gives
+    no `bounds`, the map's extent written into `doc`); a map that cannot be read is a
+    located error."""
+    where = {"file": file, "line": line_at(doc, ("map",)), "key": "map"}
+    value = doc["map"]
+    if not isinstance(value, str):
+        raise WorldError("map is the path of a map_server .yaml file", **where)
+    path = Path(value) if file is None else Path(file).parent / value
+    try:
+        grid = load_map(path)
+    except BtnavError as err:
+        raise WorldError(f"map {value}: {err.message}", **where) from None
+    if abs(grid.origin.yaw) > 1e-9:
+        raise WorldError(f"map {value}: a rotated map origin is not supported yet", **where)
+    # occupied as map_server reads the image: at or above its occupied_thresh
+    rects = occupied_rectangles(grid.data == 100).astype(float)
+    res, ox, oy = grid.resolution, grid.origin.x, grid.origin.y
+    boxes = np.column_stack(
+        (
+            ox + rects[:, 1] * res,
+            oy + rects[:, 0] * res,
+            ox + rects[:, 3] * res,
+            oy + rects[:, 2] * res,
+        )
+    )
+    if "bounds" not in doc:
+        w, h = grid.size_m
+        doc["bounds"] = [[ox, oy], [ox + w, oy + h]]
+    return boxes
+
+
 class WorldSpec(StrictModel):
     """A whole world file."""
 
     world: str = Field("world", max_length=200, description="the world's name")
+    #: A map_server map (relative to the world file) whose occupied cells become static
+    #: geometry: a world made from a map image (the bounds default to the map's extent).
+    map: str | None = Field(None, min_length=1)
     bounds: Annotated[
         tuple[Point, Point], _numbers(2, "bounds are [[x_min, y_min], [x_max, y_max]]")
     ]
@@ -593,6 +630,8 @@ class WorldSpec(StrictModel):
     _doc: Any = PrivateAttr(default=None)
     _file: str | None = PrivateAttr(default=None)
     _warnings: list[BtnavWarning] = PrivateAttr(default_factory=list)
+    #: (K, 4) x0, y0, x1, y1: the `map`'s occupied cells as rectangles (world metres)
+    _map_boxes: np.ndarray = PrivateAttr(default_factory=lambda: np.zeros((0, 4)))
 
     @field_validator("bounds")
     @classmethod
@@ -607,6 +646,11 @@ class WorldSpec(StrictModel):
     @property
     def file(self) -> str | None:
         return self._file
+
+    @property
+    def map_boxes(self) -> np.ndarray:
+        """The `map`'s occupied cells as (K, 4) rectangles x0, y0, x1, y1 (none without one)."""
+        return self._map_boxes
 
     @property
     def load_warnings(self) -> list[BtnavWarning]:
@@ -631,9 +675,14 @@ class WorldSpec(StrictModel):
                 file=name,
                 line=getattr(doc, "line", None),
             )
+        boxes = None
+        if doc.get("map") is not None:
+            boxes = _map_geometry(doc, name)
         spec = validate(cls, doc, file=name, error_cls=WorldError)
         spec._doc = doc
         spec._file = name
+        if boxes is not None:
+            spec._map_boxes = boxes
         spec._warnings = route_crossings(spec)
         for warning in spec._warnings:
             warnings.warn(warning, stacklevel=2)
