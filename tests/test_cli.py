@@ -301,9 +301,11 @@ def test_run_prints_a_line_per_missed_waypoint_under_the_result(tmp_path, capsys
 
 
 def test_run_with_strict_params_stops_at_a_key_nav2_skips(tmp_path, nav2_params_file, capsys):
-    from .params.tutorial import SKIPPED, line_of, with_tutorial_sections
+    from .params.tutorial import DOCUMENTED_CRITICS, SKIPPED, line_of, with_tutorial_sections
 
-    params = with_tutorial_sections(nav2_params_file, tmp_path / "tutorial.yaml")
+    params = with_tutorial_sections(
+        nav2_params_file, tmp_path / "tutorial.yaml", critics=DOCUMENTED_CRITICS
+    )
     mission = tmp_path / "m.yaml"
     mission.write_text(
         f"world: {OFFICE}\nmap: {REPO / 'maps' / 'small_office.yaml'}\nparams: {params}\n"
@@ -322,9 +324,11 @@ def test_run_with_strict_params_stops_at_a_key_nav2_skips(tmp_path, nav2_params_
 
 
 def test_params_check_strict_makes_a_skipped_key_an_error(tmp_path, nav2_params_file, capsys):
-    from .params.tutorial import with_tutorial_sections
+    from .params.tutorial import DOCUMENTED_CRITICS, with_tutorial_sections
 
-    params = with_tutorial_sections(nav2_params_file, tmp_path / "tutorial.yaml")
+    params = with_tutorial_sections(
+        nav2_params_file, tmp_path / "tutorial.yaml", critics=DOCUMENTED_CRITICS
+    )
     assert main(["params", "check", str(params)]) == 0
     capsys.readouterr()
     assert main(["params", "check", "--strict", str(params)]) == 2

@@ -80,7 +80,10 @@ def test_params_flat_critic_keys_as_nav2_writes_them():
     )
     assert p.critic_params["BaseObstacle"].scale == 0.05
     assert p.critic_params["PathAlign"].forward_point_distance == 0.2
-    assert p.critic_params["PathAlign"].scale == 32.0
+    # A listed critic without `scale` weighs 1.0 (Nav2's TrajectoryCritic), not the 32.0 of
+    # the documented example; its forward point is Nav2's 0.325 m unless written.
+    assert p.critic_params["PathAlign"].scale == 1.0
+    assert p.critic_params["RotateToGoal"].scale == 1.0
     assert p.critic_params["RotateToGoal"].slowing_factor == 3.0
     with pytest.raises(ValueError):
         DWBParams.model_validate({"critics": ["NoSuchCritic"]})

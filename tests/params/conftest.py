@@ -11,7 +11,7 @@ from pydantic import Field
 from btnav.params import ParamsModel
 from btnav.plugins import register, unregister
 
-from .tutorial import with_tutorial_sections
+from .tutorial import DOCUMENTED_CRITICS, with_tutorial_sections
 
 #: A made-up plugin type (not a Nav2 name), so nothing real is replaced while a test runs.
 TEST_INFLATION = "btnav_test::InflationLayer"
@@ -42,7 +42,9 @@ def nav2_copy(tmp_path: Path, nav2_params_file: Path) -> Callable[..., tuple[Pat
 @pytest.fixture
 def tutorial_params(tmp_path: Path, nav2_params_file: Path) -> Path:
     """Nav2's params file with the Jazzy tutorial's three sections pasted in (issue 34)."""
-    return with_tutorial_sections(nav2_params_file, tmp_path / "tutorial_params.yaml")
+    return with_tutorial_sections(
+        nav2_params_file, tmp_path / "tutorial_params.yaml", critics=DOCUMENTED_CRITICS
+    )
 
 
 @pytest.fixture

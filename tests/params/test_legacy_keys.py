@@ -101,8 +101,8 @@ def test_tutorial_file_loads_as_nav2_reads_it(tutorial_params):
     assert controller.plugins["progress_checker"].defaulted
     dwb = controller.plugins["FollowPath"].params
     assert (dwb.min_vel_x, dwb.max_vel_x, dwb.vtheta_samples) == (-0.3, 0.3, 40)
-    # max_rot_vel: 0.5 is not max_vel_theta: the default stays, as Nav2 keeps its own.
-    assert dwb.max_vel_theta == DWBParams().max_vel_theta != 0.5
+    # max_rot_vel: 0.5 is not max_vel_theta: Nav2's default for a limit left out, 0.0, stays.
+    assert dwb.max_vel_theta == 0.0
     behaviors = params.server("behavior_server")
     assert list(behaviors.plugins) == ["Spin", "BackUp", "Wait"]
     # The skipped keys are out of the section as kept, so set_parameters re-validates it.

@@ -98,9 +98,14 @@ def _blocks(text: str) -> dict[str, str]:
     return out
 
 
-def with_tutorial_sections(nav2_file: Path, out: Path) -> Path:
-    """Nav2's file with its three sections replaced by the tutorial's (written to `out`)."""
-    nav2, tutorial = _blocks(nav2_file.read_text()), _blocks(TUTORIAL)
+def with_tutorial_sections(nav2_file: Path, out: Path, *, critics: str = "") -> Path:
+    """Nav2's file with its three sections replaced by the tutorial's (written to `out`);
+    `critics` (params-file lines, e.g. `DOCUMENTED_CRITICS`) is added at FollowPath's end."""
+    return _paste(nav2_file, out, with_critics(TUTORIAL, critics))
+
+
+def _paste(nav2_file: Path, out: Path, sections: str) -> Path:
+    nav2, tutorial = _blocks(nav2_file.read_text()), _blocks(sections)
     assert set(tutorial) <= set(nav2)
     out.write_text("".join(tutorial.get(name, text) for name, text in nav2.items()))
     return out
@@ -113,3 +118,55 @@ def line_of(path: Path, key: str) -> int:
     for part in key.split("."):
         n = next(i for i in range(n, len(lines)) if lines[i].strip().startswith(f"{part}:"))
     return n + 1
+
+
+#: What the missing-critics error tells a user to add to the tutorial's FollowPath: Nav2's
+#: documented critics and scales (docs.nav2.org's DWB example, params/nav2_params_dwb.yaml).
+DOCUMENTED_CRITICS = """\
+      critics: ["RotateToGoal", "Oscillation", "BaseObstacle", "GoalAlign", "PathAlign", "PathDist", "GoalDist"]
+      BaseObstacle.scale: 0.02
+      PathAlign.scale: 32.0
+      PathAlign.forward_point_distance: 0.1
+      GoalAlign.scale: 24.0
+      GoalAlign.forward_point_distance: 0.1
+      PathDist.scale: 32.0
+      GoalDist.scale: 24.0
+      RotateToGoal.scale: 32.0
+      RotateToGoal.slowing_factor: 5.0
+      RotateToGoal.lookahead_time: -1.0
+"""
+
+
+#: The tutorial's FollowPath ends with this line; what a user adds goes after it.
+FOLLOW_PATH_END = "      scaling_theta: 0.25\n"
+
+
+def with_critics(sections: str, critics: str) -> str:
+    """`sections` with `critics` (params-file lines) added at the end of FollowPath."""
+    if critics and not critics.endswith("\n"):
+        critics += "\n"
+    assert sections.count(FOLLOW_PATH_END) == 1
+    return sections.replace(FOLLOW_PATH_END, FOLLOW_PATH_END + critics)
+
+
+def completed(critics: str = DOCUMENTED_CRITICS, extra: str = "") -> str:
+    """The tutorial's sections as its two errors tell a user to fix them: `critics` (the
+    documented list, or what the error printed) added at the end of FollowPath, and the
+    behavior_plugins (and their sections) named as the default tree's nodes call them.
+    `extra` (params-file lines) is added to FollowPath after the critics."""
+    added = "".join(s + ("" if s.endswith("\n") else "\n") for s in (critics, extra) if s)
+    text = with_critics(TUTORIAL, added)
+    text = text.replace(
+        "behavior_plugins: [Spin, BackUp, Wait]", "behavior_plugins: [spin, backup, wait]"
+    )
+    for old, new in (("Spin", "spin"), ("BackUp", "backup"), ("Wait", "wait")):
+        text = text.replace(f"    {old}:\n", f"    {new}:\n")
+    assert "    spin:\n" in text and "    Spin:\n" not in text
+    return text
+
+
+def with_completed_sections(
+    nav2_file: Path, out: Path, critics: str = DOCUMENTED_CRITICS, extra: str = ""
+) -> Path:
+    """Nav2's file with the tutorial's sections, completed as `completed` says (to `out`)."""
+    return _paste(nav2_file, out, completed(critics, extra))

@@ -80,7 +80,11 @@ def test_only_the_last_forward_point_must_be_on_the_grid():
     reason="btnav goal_align.py:27-29,42-43 (with map_grid.py:63-77) switches GoalAlign off "
     "(scale 0, scores 0) within max(forward_point_distance, the planner's "
     "xy_goal_tolerance) of the goal; Nav2's GoalAlign has no such switch and keeps "
-    "scoring up to the goal",
+    "scoring up to the goal"
+    "; kept on purpose (issue 34): run with Nav2's semantics instead, the documented DWB "
+    "section misses the office tour's last waypoint (the robot turns to and fro 0.18 m "
+    "from (2.5, 6.5), yaw 2.3-2.7 rad against 3.14, as navigation2 issue #5805 reports) "
+    "and the turtlebot3 mapping stage touches a pillar",
 )
 @pytest.mark.parametrize(
     "fpd, planner",

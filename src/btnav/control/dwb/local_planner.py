@@ -6,6 +6,10 @@ trajectories at once, drop the illegal ones (inf: hitting a lethal/inscribed
 cell, leaving the costmap, oscillating, ...) and command the sample with the
 lowest weighted sum. Critic `<Name>.<key>` params are written either flat, as
 ROS writes them (`PathAlign.scale: 32.0`), or as a nested section.
+
+A section read from a params file is read as Nav2 reads it: `critics` is required and
+what it leaves out takes Nav2's own defaults; `DWBParams()` in code is the documented
+example (`nav2_defaults` says which is which, and why).
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ from ...core.errors import PluginError
 from ...core.geometry import Pose2D
 from ...core.messages import Path, Twist
 from ...core.suggest import best_match
+from ...core.yaml_io import YamlMap
 from ...costmap.costmap_2d import Costmap2D
 from ...params.schema import (
     FieldProblem,
@@ -41,28 +46,12 @@ from ..path_handler import closest_index, integrated_index
 from . import critics as _critics  # noqa: F401  (registers the built-in critics)
 from .critic import Trajectories, TrajectoryCritic
 from .kinematic_parameters import KinematicParameters
+from .nav2_defaults import DOCUMENTED_CRITICS, NAV2_CODE_DEFAULTS, missing_critics, no_motion_reason
 from .trajectory_generator import sample_velocities, simulate
 
-#: Nav2's documented critic list and scales for DWB.
-DEFAULT_CRITICS = [
-    "RotateToGoal",
-    "Oscillation",
-    "BaseObstacle",
-    "GoalAlign",
-    "PathAlign",
-    "PathDist",
-    "GoalDist",
-]
-DEFAULT_SCALES = {
-    "RotateToGoal": 32.0,
-    "Oscillation": 1.0,
-    "BaseObstacle": 0.02,
-    "GoalAlign": 24.0,
-    "PathAlign": 32.0,
-    "PathDist": 32.0,
-    "GoalDist": 24.0,
-}
-DEFAULT_FORWARD_POINT = {"GoalAlign": 0.1, "PathAlign": 0.1}
+#: The documented critic list (docs.nav2.org's DWB example): a section built in code
+#: without `critics` gets it, with the example's keys for each (`DOCUMENTED_CRITICS`).
+DEFAULT_CRITICS = list(DOCUMENTED_CRITICS)
 
 
 def critic_class(name: str, section: Mapping[str, Any] | None = None) -> type[TrajectoryCritic]:
@@ -89,10 +78,11 @@ class DWBParams(Controller.Params):
         "dwb_plugins/StandardTrajectoryGenerator",
         "dwb_plugins/LimitedAccelGenerator",
     ) = "dwb_plugins::StandardTrajectoryGenerator"
-    # Kinematics (dwb_plugins::KinematicParameters). Nav2's code defaults these to 0 (the
-    # robot would not move); btnav takes the values Nav2's documentation configures. A
-    # holonomic base strafes with min_vel_y < 0 < max_vel_y and acc_lim_y, decel_lim_y set;
-    # max_speed_xy caps hypot(vx, vy) (negative: no cap).
+    # Kinematics (dwb_plugins::KinematicParameters). These defaults are the documented
+    # example's, for a section built in code; one read from a params file takes Nav2's own
+    # for a key it leaves out (0.0: `nav2_defaults`). A holonomic base strafes with
+    # min_vel_y < 0 < max_vel_y and acc_lim_y, decel_lim_y set; max_speed_xy caps
+    # hypot(vx, vy) (negative: no cap).
     min_vel_x: float = 0.0
     min_vel_y: float = 0.0
     max_vel_x: float = 0.26
@@ -116,7 +106,7 @@ class DWBParams(Controller.Params):
     sim_time: float = Field(1.7, gt=0.0)
     discretize_by_time: bool = False
     time_granularity: float = Field(0.5, gt=0.0)
-    linear_granularity: float = Field(0.05, gt=0.0)
+    linear_granularity: float = Field(0.05, gt=0.0)  # Nav2's code: 0.5, the example's: 0.05
     angular_granularity: float = Field(0.025, gt=0.0)
     include_last_point: bool = True
     limit_vel_cmd_in_traj: bool = ignored(False, "btnav commands the sampled velocity")
@@ -148,12 +138,21 @@ class DWBParams(Controller.Params):
     @classmethod
     def _gather_critics(cls, data: Any) -> Any:
         """Each listed critic's keys, flat (`PathAlign.scale`) or nested, into its own Params;
-        a problem names the key as the file writes it."""
+        a problem names the key as the file writes it.
+
+        A section read from a params file (the loader hands a `YamlMap`) is read as Nav2
+        reads it: `critics` is required and a key left out takes Nav2's own default; one
+        built in code gets the documented example for what it leaves out (`nav2_defaults`).
+        """
         if not isinstance(data, Mapping):
             return data
         for internal in ("critic_params", "unlisted_critic_params"):
             if internal in data:
                 raise FieldProblem(internal, f"unknown key '{internal}'")
+        from_file = isinstance(data, YamlMap)
+        if from_file and not data.get("critics"):
+            raise missing_critics(data)
+        documented = "critics" not in data
         names = data.get("critics", DEFAULT_CRITICS)
         if not isinstance(names, list):
             return data
@@ -182,13 +181,21 @@ class DWBParams(Controller.Params):
                 )
             else:
                 out[key] = value
+        if from_file:
+            out = {**NAV2_CODE_DEFAULTS, **out}
         out["unlisted_critic_params"] = unlisted
-        out["critic_params"] = {name: _critic_params(name, keys) for name, keys in sections.items()}
+        out["critic_params"] = {
+            name: _critic_params(name, keys, documented) for name, keys in sections.items()
+        }
         return out
 
 
-def _critic_params(name: str, keys: dict[str, tuple[Any, tuple[str, ...]]]) -> Any:
-    """The critic's Params from its keys, with btnav's defaults for Nav2's documented scales."""
+def _critic_params(
+    name: str, keys: dict[str, tuple[Any, tuple[str, ...]]], documented: bool
+) -> Any:
+    """The critic's Params from its keys. What they leave out is the critic's own default
+    (Nav2's: scale 1.0, forward_point_distance 0.325, ...), or with `documented` (the
+    section built in code without a list) the documented example's value."""
     raw = {k: value for k, (value, _) in keys.items()}
     try:
         cls = critic_class(name, raw)
@@ -196,9 +203,8 @@ def _critic_params(name: str, keys: dict[str, tuple[Any, tuple[str, ...]]]) -> A
         where = keys["class"][1] if "class" in keys else ("critics",)
         raise FieldProblem(where, exc.message, suggestion=exc.suggestion) from None
     raw.pop("class", None)
-    raw.setdefault("scale", DEFAULT_SCALES.get(name, 1.0))
-    if name in DEFAULT_FORWARD_POINT and "forward_point_distance" not in raw:
-        raw["forward_point_distance"] = DEFAULT_FORWARD_POINT[name]
+    if documented:
+        raw = {**DOCUMENTED_CRITICS.get(name, {}), **raw}
     try:
         return cls.Params.model_validate(raw)
     except pydantic.ValidationError as exc:
@@ -215,6 +221,10 @@ def _is_critic(name: str) -> bool:
     except PluginError:
         return False
     return True
+
+
+#: The documented example's limits (DWBParams' defaults), named by the no-motion message.
+_DOCUMENTED_LIMITS = {k: float(DWBParams.model_fields[k].default) for k in NAV2_CODE_DEFAULTS}
 
 
 @register("controller", "dwb_core::DWBLocalPlanner")
@@ -304,7 +314,10 @@ class DWBLocalPlanner(Controller):
         counts = (p.vx_samples, p.vy_samples, p.vtheta_samples)
         samples = sample_velocities(kin, counts, velocity, acc_time)
         if len(samples) == 0:
-            raise NoValidControl("No valid velocity samples in the dynamic window")
+            raise NoValidControl(
+                "No valid velocity samples in the dynamic window"
+                + no_motion_reason(kin, _DOCUMENTED_LIMITS)
+            )
         trajs = simulate(p, kin, pose, velocity, samples, limited)
         total = np.zeros(len(samples))
         for c in self.critics:
@@ -323,4 +336,4 @@ class DWBLocalPlanner(Controller):
         return cmd
 
 
-__all__ = ["DEFAULT_CRITICS", "DWBLocalPlanner", "DWBParams"]
+__all__ = ["DEFAULT_CRITICS", "DOCUMENTED_CRITICS", "DWBLocalPlanner", "DWBParams"]
