@@ -4,10 +4,11 @@ The tour runs with AMCL driving (map -> odom is AMCL's); global localisation and
 kidnapped robot run a second, passive AMCL (tf_broadcast false) beside ground-truth
 navigation, so the robot drives the same tour safely whatever AMCL believes.
 
-The targets are the issue's: 5 cm / 2 degrees RMS on the office world's odometry, under
-10 cm with five times its noise. Between updates (nav2_amcl's gating: update_min_d
-0.25 m, update_min_a 0.2 rad) odometry alone carries the estimate, so its drift over
-0.25 m bounds what any AMCL can do.
+The targets are issue 34's: with Nav2's amcl section 8 cm RMS and under 30 cm at worst;
+with params/nav2_params_matched_amcl.yaml (alpha1-4 matched to the world's odometry,
+the likelihood_field_prob model) 5 cm RMS; under 10 cm with five times the odometry's noise. Between updates
+(nav2_amcl's gating: update_min_d 0.25 m, update_min_a 0.2 rad) odometry alone carries
+the estimate, so its drift over 0.25 m bounds what any AMCL can do.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ pytestmark = pytest.mark.slow
 REPO = Path(__file__).resolve().parents[2]
 TOUR = REPO / "missions" / "office_tour.yaml"
 WORLD = REPO / "worlds" / "small_office.yaml"
+MATCHED = REPO / "params" / "nav2_params_matched_amcl.yaml"
 #: Nav2's params with Regulated Pure Pursuit in place of MPPI, for the tests below that judge
 #: AMCL, not the controller: RPP drives the same tour on about a quarter of the CPU (MPPI was
 #: ~75% of each run). On seeds 0-2 with RPP: 5x noise 7.2-7.4 cm RMS, global localisation
@@ -64,16 +66,23 @@ def test_the_office_tour_with_amcl_succeeds_untouched(untouched_tour):
     assert untouched_tour.missed_waypoints == []
 
 
-@pytest.mark.xfail(
-    strict=True,  # seed 0: 5.63 cm since MPPI judges the goal region by path length
-    reason="the issue's 5 cm / 2 deg: nav2_amcl's algorithm with Nav2's amcl section "
-    "gives 5.3-6.9 cm (mean 5.8) and 1.5-2.7 deg RMS on seeds 0-7; one scan fits the "
-    "map to 2.5 cm RMS, but alpha1-4 0.2 keep the cloud ~25 cm / 15 deg wide and its "
-    "mean trails the robot by ~2 cm (tests/localization/test_large_world.py's reason)",
-)
-def test_the_office_tour_keeps_amcl_within_5_cm_and_2_degrees(untouched_tour):
+def test_the_office_tour_on_nav2s_amcl_section_holds_8_cm_rms_and_30_cm_at_worst(untouched_tour):
+    # issue 34's bound for Nav2's amcl section (its alphas 20-500x this odometry's drift)
     err = untouched_tour.localization_error
-    assert err["rms_xy"] <= 0.05 and math.degrees(err["rms_yaw"]) <= 2.0
+    assert err["rms_xy"] <= 0.08 and err["max_xy"] < 0.30
+
+
+@pytest.fixture(scope="module")
+def matched_tour():
+    return tour(**{"mission.params": str(MATCHED)})
+
+
+def test_the_office_tour_with_alphas_matched_to_the_odometry_holds_5_cm(matched_tour):
+    """params/nav2_params_matched_amcl.yaml (Nav2's file, alpha1-4 matched to the world's
+    odometry and the likelihood_field_prob model): 1.7-2.0 cm RMS on seeds 0-2."""
+    assert matched_tour.status == "succeeded" and matched_tour.collisions == 0
+    err = matched_tour.localization_error
+    assert err["rms_xy"] <= 0.05 and err["max_xy"] < 0.30
 
 
 def test_five_times_the_odometry_noise_stays_under_10_cm(tmp_path):

@@ -2,8 +2,9 @@
 
 The warehouse (worlds/warehouse.yaml, 30 x 20 m: a rack hall, a loading dock, a
 corridor and four rooms) and its tour (missions/warehouse_tour.yaml: eight waypoints,
-about 85 m) with `localization: amcl`. The issue's targets are the office tour's: 5 cm /
-2 degrees RMS over the run, success, no collision.
+about 85 m) with `localization: amcl`. Issue 34's bounds: with Nav2's amcl section 8 cm
+RMS and under 30 cm at worst; with alpha1-4 matched to the world's odometry
+(params/nav2_params_matched_amcl.yaml) 5 cm RMS; success, no collision.
 
 AMCL is what these tests judge, not the controller: the tour runs on Nav2's params with
 Regulated Pure Pursuit (params/nav2_params_rpp.yaml) in place of the mission's MPPI,
@@ -14,12 +15,12 @@ tests/mission/test_run.py and tests/localization/test_closed_loop.py.
 
 from __future__ import annotations
 
-import math
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from btnav.maps import load_map
 from btnav.mission import Mission, run_mission
@@ -30,6 +31,7 @@ REPO = Path(__file__).resolve().parents[2]
 TOUR = REPO / "missions" / "warehouse_tour.yaml"
 WORLD = REPO / "worlds" / "warehouse.yaml"
 MAP = REPO / "maps" / "warehouse.yaml"
+MATCHED = REPO / "params" / "nav2_params_matched_amcl.yaml"
 
 
 def test_the_warehouse_tour_loads_without_warnings_and_its_waypoints_are_free():
@@ -74,17 +76,29 @@ def test_the_warehouse_tour_with_amcl_succeeds_without_a_collision(tour_report):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured 6.6-8.8 cm / 2.0-2.4 deg RMS on seeds 0-2 with RPP driving (7.2-7.4 cm "
-    "/ 1.8-2.1 deg with MPPI), with nav2_amcl's own "
-    "algorithm (checked piece by piece): one scan fits the map to 1.2 cm RMS, but Nav2's "
-    "alpha1-4 0.2 (against the world's 0.002 odometry) keep the cloud ~25 cm and ~15 deg "
-    "wide, likelihood_field's 1 + sum(pz^3) with sigma_hit 0.2 pulls its mean only ~20% "
-    "of the way per update, and the wide heading spread moves the mean ~4% short of each "
-    "odometry step: the estimate trails the robot by 3-4 cm and wanders",
-)
-def test_the_warehouse_tour_keeps_amcl_within_5_cm_and_2_degrees(tour_report):
+def test_the_warehouse_tour_on_nav2s_amcl_section_holds_8_cm_rms_and_30_cm_at_worst(tour_report):
+    # issue 34's bound for Nav2's amcl section (its alphas 20-500x this odometry's drift)
     err = tour_report.localization_error
-    assert err["rms_xy"] <= 0.05
-    assert math.degrees(err["rms_yaw"]) <= 2.0
+    assert err["rms_xy"] <= 0.08 and err["max_xy"] < 0.30
+
+
+def matched_amcl_of_the_shipped_file() -> dict[str, float | str]:
+    """params/nav2_params_matched_amcl.yaml's alpha1-4 and laser model, as `--set amcl.*`
+    overrides (the tour keeps its RPP params file)."""
+    amcl = yaml.safe_load(MATCHED.read_text())["amcl"]["ros__parameters"]
+    keys = ("alpha1", "alpha2", "alpha3", "alpha4", "laser_model_type")
+    return {f"amcl.{k}": amcl[k] for k in keys}
+
+
+@pytest.mark.slow
+def test_the_warehouse_tour_with_the_matched_files_amcl_holds_5_cm():
+    """The shipped matched file's amcl (RPP driving, as above): 1.2-1.3 cm RMS, 3 cm at
+    worst on seeds 0-2 (its alphas alone 2.9-3.3 cm, Nav2's section 6.2-8.4 cm)."""
+    rpp = REPO / "params" / "nav2_params_rpp.yaml"
+    overrides = {"mission.localization": "amcl", "mission.params": str(rpp)}
+    report = run_mission(
+        Mission.load(TOUR, overrides={**overrides, **matched_amcl_of_the_shipped_file()})
+    )
+    assert report.status == "succeeded" and report.collisions == 0
+    err = report.localization_error
+    assert err["rms_xy"] <= 0.05 and err["max_xy"] < 0.30

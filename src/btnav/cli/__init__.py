@@ -22,7 +22,14 @@ from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 from .. import __version__
-from ..core.errors import ERROR_PREFIX, WARNING_PREFIX, BtnavError, BtnavWarning
+from ..core.errors import (
+    ERROR_PREFIX,
+    NOTE_PREFIX,
+    WARNING_PREFIX,
+    BtnavError,
+    BtnavNote,
+    BtnavWarning,
+)
 
 EXIT_OK, EXIT_FAILED, EXIT_USER_ERROR = 0, 1, 2
 #: Ctrl-C, as a shell reports a process SIGINT stopped (128 + 2).
@@ -331,7 +338,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _warning_printer(python_show: Callable[..., None]) -> Callable[..., None]:
     """`warnings.showwarning` for a command: a `BtnavWarning` is one line, `btnav: warning:
-    file:line: ...`; any other warning is shown as Python (`python_show`) would."""
+    file:line: ...` (`btnav: note:` for a `BtnavNote`); any other warning is shown as Python (`python_show`) would."""
 
     def show(
         message: Warning | str,
@@ -342,7 +349,8 @@ def _warning_printer(python_show: Callable[..., None]) -> Callable[..., None]:
         line: str | None = None,
     ) -> None:
         if issubclass(category, BtnavWarning):
-            print(f"{WARNING_PREFIX}{message}", file=file or sys.stderr)
+            prefix = NOTE_PREFIX if issubclass(category, BtnavNote) else WARNING_PREFIX
+            print(f"{prefix}{message}", file=file or sys.stderr)
         else:
             python_show(message, category, filename, lineno, file, line)
 

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from os import PathLike
 
 #: How every line about a problem starts, wherever it is printed (the CLI, `check_main`).
-ERROR_PREFIX, WARNING_PREFIX = "btnav: error: ", "btnav: warning: "
+ERROR_PREFIX, WARNING_PREFIX, NOTE_PREFIX = "btnav: error: ", "btnav: warning: ", "btnav: note: "
 
 
 def format_key_path(key: str | Sequence[str | int] | None) -> str | None:
@@ -129,3 +129,9 @@ class BtnavWarning(_Placed, UserWarning):
     warning and tests catch it with `pytest.warns`; the CLI prints each one once as
     `btnav: warning: file:line: key: message`.
     """
+
+
+class BtnavNote(BtnavWarning):
+    """Not a mistake: a choice in a user's files that btnav has measured to work against
+    them (AMCL's alphas far from the world's odometry noise). The CLI prints it as
+    `btnav: note: file:line: key: message`; strict loading leaves it a note."""
