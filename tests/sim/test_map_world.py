@@ -39,3 +39,15 @@ def test_a_burger_tours_nav2_s_own_map_with_amcl_on_it():
     assert report.status == "succeeded" and not report.missed_waypoints, report.summary()
     assert report.collisions == 0, report.contacts
     assert report.localization_error["rms_xy"] <= 0.10, report.localization_error
+
+
+@pytest.mark.slow
+def test_a_waffle_tours_nav2s_depot_map_with_amcl_matched_to_it():
+    """Nav2's depot (30 x 15 m, 1322 rectangles) with the matched AMCL file: every
+    waypoint, no contact, AMCL within 8 cm RMS (5.6 cm measured; Nav2's amcl section loses
+    the robot here, as the mission's comment measures)."""
+    report = run_mission(Mission.load(REPO / "missions" / "nav2_depot_tour.yaml"))
+    assert report.status == "succeeded" and report.missed_waypoints == []
+    assert report.collisions == 0, report.contacts
+    err = report.localization_error
+    assert err["rms_xy"] <= 0.08 and err["max_xy"] < 0.30, err
