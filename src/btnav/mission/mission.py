@@ -20,12 +20,13 @@ from typing import Any, TypeVar
 import numpy as np
 
 from ..bt.bundled import find_tree
-from ..core.errors import BtnavError, BtnavWarning, ParamsError, WorldError
+from ..core.errors import BtnavError, BtnavNote, BtnavWarning, ParamsError, WorldError
 from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
 from ..core.resources import bundled_dir
 from ..core.suggest import best_match
 from ..core.yaml_io import line_at
+from ..localization.amcl.odometry_match import odometry_note
 from ..maps.map_io import load_map
 from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
 from ..navigators.navigator import BasicNavigator
@@ -272,7 +273,21 @@ class Mission:
             start = self.world.robot.pose  # AMCL starts where the mission starts the robot
         if start is not None:
             nav.set_initial_pose(Pose2D(*start))
+        self._note_amcl_alphas(nav)
         return nav
+
+    def _note_amcl_alphas(self, nav: BasicNavigator) -> None:
+        """The one `btnav: note:` for amcl alphas far from the world's odometry noise,
+        once the bring-up cannot fail any more (a mistake stays a single line)."""
+        if self.spec.localization != "amcl":
+            return
+        note = odometry_note(nav.world.spec.robot.odometry, nav.runtime.localizer.params)
+        if note is not None:
+            amcl = self.params.server("amcl") if "amcl" in self.params else None
+            line = amcl.line if amcl is not None else None
+            warnings.warn(
+                BtnavNote(note, file=self.params.path, line=line, key="amcl"), stacklevel=3
+            )
 
 
 def _amcl_sets_pose(mission: Mission) -> bool:

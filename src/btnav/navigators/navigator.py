@@ -20,14 +20,12 @@ helpers (`get_path`, `cancel_task`) step until their answer is there.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from pathlib import Path as FilePath
 from typing import Any, Self
 
 from ..core.error_codes import NavResult
-from ..core.errors import BtnavNote
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..core.nav2_msgs import (
@@ -40,7 +38,6 @@ from ..core.nav2_msgs import (
     NavigateToPoseGoal,
     SpinGoal,
 )
-from ..localization.amcl.odometry_match import odometry_note
 from ..maps.map_io import load_map, save_map
 from ..nav.actions import GoalHandle
 from ..nav.runtime import Runtime
@@ -108,12 +105,6 @@ class BasicNavigator:
             model = slam_config
         kind = "slam" if is_registered("slam", localization) else "localizer"
         rt.use_localizer(localization, model, kind=kind)
-        if localization == "amcl":
-            note = odometry_note(w.spec.robot.odometry, rt.localizer.params)
-            if note is not None:
-                where = pf.server("amcl") if "amcl" in pf else None
-                line = where.line if where is not None else None
-                warnings.warn(BtnavNote(note, file=pf.path, line=line, key="amcl"), stacklevel=2)
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)
         set_map = getattr(rt.localizer, "set_map", None)
