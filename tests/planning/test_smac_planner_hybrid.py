@@ -20,6 +20,7 @@ from btnav.planning.exceptions import (
     StartOccupied,
     StartOutsideMapBounds,
 )
+from btnav.planning.smac_common import GridCollisionChecker
 from btnav.planning.smac_planner_hybrid import SmacPlannerHybrid, max_curvature
 
 from .conftest import inflate
@@ -153,3 +154,30 @@ def test_a_replan_after_the_costmap_changed_sees_the_change():
     assert second.length() > first.length() + 0.5  # round the end of the wall
     # the very plan a planner that never saw the old costmap makes (no stale heuristic)
     assert second.poses.tobytes() == planner().create_plan(start, goal, cm).poses.tobytes()
+
+
+@pytest.mark.parametrize("allow_unknown", [True, False])
+def test_a_footprint_checked_per_cell_and_bin_is_the_footprint_laid_on_the_cells_centre(
+    allow_unknown,
+):
+    """The search checks a polygon once per (cell, heading bin), at the cell's centre, as
+    Nav2 does; each answer must be what laying the turned outline there gives, edge of
+    the map (a vertex off it collides) and unknown cells included."""
+    rng = np.random.default_rng(5)
+    costs = np.where(rng.random((50, 70)) < 0.03, 254, 0).astype(np.uint8)
+    costs[rng.random((50, 70)) < 0.02] = 255
+    cm = Costmap2D(costs, 0.05, -1.3, 0.7)
+    car = np.array([[-0.12, -0.15], [0.45, -0.15], [0.45, 0.15], [-0.12, 0.15]])
+    for footprint, bins in ((car, 72), (rng.uniform(-0.3, 0.3, (5, 2)), 16)):
+        ros = SimpleNamespace(use_radius=False, footprint=footprint, circumscribed_cost=lambda: 0.0)
+        checker = GridCollisionChecker(cm, ros, allow_unknown, bins)
+        cells = rng.integers(0, 50 * 70, 3000)
+        b = rng.integers(0, bins, 3000)
+        laid = checker.outline_hits(
+            list(cells % 70 + 0.5), list(cells // 70 + 0.5), list(b * (2 * np.pi / bins))
+        )
+        table = [
+            checker.footprint_hit(int(c) * bins + int(k)) for c, k in zip(cells, b, strict=True)
+        ]
+        assert table == laid
+        assert 0 < sum(laid) < len(laid)  # both answers occur

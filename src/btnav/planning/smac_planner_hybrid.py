@@ -21,8 +21,14 @@ minimum); the search stops after `max_iterations` expansions, never after a wall
 
 Speed: a step's cost factor per cell, what collides per cell and the turn penalties per
 (parent turn, primitive) are tables made once a plan, so an expansion is list lookups;
-an analytic expansion is not computed when the straight line to the goal is already
-longer than `analytic_expansion_max_length` (no curve is shorter).
+a polygon footprint is checked once per (cell, heading bin), at the cell's centre as
+Nav2's GridCollisionChecker does, and remembered; an analytic expansion is not computed
+when the straight line to the goal is already longer than
+`analytic_expansion_max_length` (no curve is shorter). What is left is the interpreter's
+cost of an expansion and of Reeds-Shepp (bench/planner.py, part 2): Nav2's defaults on
+the small office plan in 35-90 ms (1 900-2 700 expansions) and 95-165 ms (18 000), the
+racecar's requests in 15-70 ms, but its two-doorway request floods 25 000 expansions
+(~0.7 s; docs/decisions/0003).
 """
 
 from __future__ import annotations
@@ -175,7 +181,7 @@ class SmacPlannerHybrid(GlobalPlanner):
         p = self.params
         res = costmap.resolution
         table = self._table(res)
-        checker = GridCollisionChecker(costmap, self.costmap_ros, p.allow_unknown)
+        checker = GridCollisionChecker(costmap, self.costmap_ros, p.allow_unknown, table.bins)
 
         def cells(pose: Pose2D) -> tuple[float, float]:
             return (pose.x - costmap.origin_x) / res, (pose.y - costmap.origin_y) / res
@@ -256,13 +262,12 @@ class SmacPlannerHybrid(GlobalPlanner):
             ]
             for parent in range(-1, 6)
         ]  # fmt: skip
-        yaws = table.yaws
         floor = math.floor
+        footprint_hit = checker.footprint_hit
 
         def expand(node: Node, closed: set[int]) -> list[Child]:
             x, y, b, _, _, turn, _ = node
             out: list[Child] = []
-            check: list[int] = []
             for dx, dy, cb, length, tf, rf, direction in rows[turn + 1][b]:
                 cx = x + dx
                 cy = y + dy
@@ -275,17 +280,9 @@ class SmacPlannerHybrid(GlobalPlanner):
                 key = cell * bins + cb
                 if key in closed:
                     continue
-                if outline is not None and outline[cell]:
-                    check.append(len(out))
+                if outline is not None and outline[cell] and footprint_hit(key):
+                    continue
                 out.append((key, cell, cx, cy, cb, length * per_cell[cell] * tf * rf, direction))
-            if check:
-                hits = checker.outline_hits(
-                    [out[j][2] for j in check],
-                    [out[j][3] for j in check],
-                    [yaws[out[j][4]] for j in check],
-                )
-                drop = {j for j, hit in zip(check, hits, strict=True) if hit}
-                out = [c for j, c in enumerate(out) if j not in drop]
             return out
 
         return expand
