@@ -60,6 +60,14 @@ def _world_show(args: argparse.Namespace) -> int:
     return show_world_main(args.world, args.output)
 
 
+def _world_convert(args: argparse.Namespace) -> int:
+    from .world import convert_world_main
+
+    return convert_world_main(
+        args.world, args.output, args.robot, args.height_band, args.model_path or ()
+    )
+
+
 def _slam(args: argparse.Namespace) -> int:
     from .slam import slam_main
 
@@ -310,6 +318,29 @@ def build_parser() -> argparse.ArgumentParser:
     frames = world.add_parser("frames", help="print the robot's frame tree (REP-105)")
     frames.add_argument("world")
     frames.set_defaults(func=_frames_of_world)
+    conv = world.add_parser("convert", help="write a Gazebo SDF world as a btnav world YAML")
+    conv.add_argument("world", help="a Gazebo .world or .sdf file (or a world YAML with sdf:)")
+    conv.add_argument("-o", "--output", required=True, help="the world .yaml to write")
+    conv.add_argument(
+        "--robot",
+        metavar="FILE",
+        help="a URDF, xacro or SDF description: the robot block written, and the lidar "
+        "height the height band comes from (default: btnav's default robot)",
+    )
+    conv.add_argument(
+        "--height-band",
+        nargs=2,
+        type=float,
+        metavar=("LO", "HI"),
+        help="keep the geometry between these heights (m; default: 0.05 to the lidar + 0.1)",
+    )
+    conv.add_argument(
+        "--model-path",
+        action="append",
+        metavar="DIR",
+        help="a folder model:// is looked up in (before GZ_SIM_RESOURCE_PATH); repeatable",
+    )
+    conv.set_defaults(func=_world_convert)
 
     robot = _group(sub, "robot", "robot descriptions (URDF, xacro, Gazebo SDF)")
     rshow = robot.add_parser("show", help="print what btnav reads from a robot description")

@@ -25,7 +25,7 @@ from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
 from ..core.resources import bundled_dir
 from ..core.suggest import best_match
-from ..core.yaml_io import line_at
+from ..core.yaml_io import YamlMap, line_at
 from ..localization.amcl.odometry_match import odometry_note
 from ..maps.map_io import load_map
 from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
@@ -159,7 +159,7 @@ class Mission:
         _check_output_needs(spec, where)
 
         world_path = _existing(resolve(base, spec.world), "world", where)
-        world = load_world_spec(world_path)
+        world = load_world_spec(world_path, robot=_robot_block(spec, doc, file, changed))
         if spec.initial_pose is not None:
             world.robot.pose = spec.initial_pose
         if spec.odometry is not None:  # the keys the mission gives replace the world's
@@ -208,9 +208,9 @@ class Mission:
             return World(self.world, seed=self.seed, file=self.world.file)
         except WorldError as err:
             if self.spec.initial_pose is not None and err.key == "robot.pose":
-                raise MissionError(
-                    f"{err.message} (in the world {err.file})", **self.where("initial_pose")
-                ) from None
+                own = err.file == str(self.file)  # the mission's robot, at initial_pose
+                where = "" if own else f" (in the world {err.file})"
+                raise MissionError(f"{err.message}{where}", **self.where("initial_pose")) from None
             raise
 
     def frame_tree(self, world: World | None = None) -> FrameTree:
@@ -288,6 +288,28 @@ class Mission:
             warnings.warn(
                 BtnavNote(note, file=self.params.path, line=line, key="amcl"), stacklevel=3
             )
+
+
+def _robot_block(spec: MissionSpec, doc: Any, file: Path, changed: Mapping[str, str]) -> Any:
+    """The mission's `robot:` as a robot block of the mission file (a bare path is its
+    `description`), starting at `initial_pose` unless it gives a pose; None without one."""
+    given = doc.get("robot") if isinstance(doc, YamlMap) else None
+    if spec.robot is None or given is None:
+        return None
+    origin = set_by("robot", changed)
+    line = None if origin else line_at(doc, ["robot"])
+    if isinstance(given, str):
+        block = YamlMap({"description": given}, file=origin or str(file), line=line)
+        block.key_lines = {"description": line} if line else {}
+    else:
+        block = YamlMap(given, file=getattr(given, "file", None) or str(file), line=line)
+        block.key_lines = dict(getattr(given, "key_lines", {}))
+    if "pose" not in block and spec.initial_pose is not None:
+        block["pose"] = list(spec.initial_pose)
+        pose_line = line_at(doc, ["initial_pose"])
+        if pose_line:
+            block.key_lines["pose"] = pose_line
+    return block
 
 
 def _amcl_sets_pose(mission: Mission) -> bool:

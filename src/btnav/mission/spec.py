@@ -67,6 +67,18 @@ def _drive_command(v: tuple[float, float, float]) -> tuple[float, float, float]:
 
 
 DriveCommand = Annotated[tuple[float, float, float], AfterValidator(_drive_command)]
+
+
+def _robot_entry(v: Any) -> Any:
+    """`robot:` is a description file or a robot block (checked key by key once read)."""
+    if v is None or isinstance(v, Mapping) or (isinstance(v, str) and v.strip()):
+        return v
+    raise ValueError(
+        "robot is a description file (robot: ../robots/my_robot.urdf.xacro) or a robot "
+        "block as a world file writes it (robot: {description: ..., pose: ...})"
+    )
+
+
 #: btnav's localisers whose map grows as the robot drives: exploring needs one.
 SLAM = ("slam", "cartographer")
 
@@ -135,6 +147,11 @@ class MissionSpec(StrictModel):
     #: mission; default: btnav's params/cartographer_2d.lua).
     cartographer_config: str | None = None
     initial_pose: Pose | None = None
+    #: The robot to place in the world, replacing the world's own: a description file
+    #: (URDF, xacro, Gazebo SDF, `model://NAME`) or a robot block as a world file writes
+    #: it (`{description: ..., footprint: ...}`), paths relative to the mission file. A
+    #: Gazebo world, which has no btnav robot, takes this one.
+    robot: Annotated[Any, AfterValidator(_robot_entry)] = None
     #: The robot's odometry over the world's `robot.odometry`: the keys given here replace
     #: the world's (`{source: laser}`: laser odometry publishes odom -> base_footprint).
     odometry: OdometrySpec | None = None

@@ -108,7 +108,9 @@ class World:
         for index, solid in enumerate(self.solids):
             self._add_solid(index, solid)
 
-        self.robot = Robot(spec.robot, make_drive(spec, self.file))
+        #: Where the robot block was written: the world file, or a mission's `robot:`.
+        self.robot_file = spec.robot_file if spec.robot_replaced else self.file
+        self.robot = Robot(spec.robot, make_drive(spec, self.robot_file))
         space.add(self.robot.body, *self.robot.shapes)
         self._check_start_pose()
 
@@ -172,7 +174,8 @@ class World:
     def _check_start_pose(self) -> None:
         """A start pose outside the bounds or overlapping anything solid is the user's mistake."""
         x, y, yaw = self.spec.robot.pose
-        where = dict(file=self.file, line=self.spec.line_of("robot", "pose"), key="robot.pose")
+        line = self.spec.line_of("robot", "pose")
+        where = dict(file=self.robot_file, line=line, key="robot.pose")
         (x0, y0), (x1, y1) = self.bounds
         if not (x0 <= x <= x1 and y0 <= y <= y1):
             raise WorldError(

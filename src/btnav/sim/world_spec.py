@@ -28,7 +28,7 @@ from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model
 from ..core.errors import BtnavError, BtnavWarning, WorldError
 from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
-from ..core.yaml_io import YamlMap, line_at, load_yaml, load_yaml_text
+from ..core.yaml_io import YamlMap, file_of, line_at, load_yaml, load_yaml_text
 from ..description import ModelPaths, PackagePaths, RobotDescription, load_description
 from ..maps import load_map
 from ..maps.occupied_rectangles import occupied_rectangles
@@ -632,6 +632,8 @@ class WorldSpec(StrictModel):
     _warnings: list[BtnavWarning] = PrivateAttr(default_factory=list)
     #: (K, 4) x0, y0, x1, y1: the `map`'s occupied cells as rectangles (world metres)
     _map_boxes: np.ndarray = PrivateAttr(default_factory=lambda: np.zeros((0, 4)))
+    #: The robot block when it was written outside the world file (see `use_robot`).
+    _robot_doc: Any = PrivateAttr(default=None)
 
     @field_validator("bounds")
     @classmethod
@@ -659,8 +661,26 @@ class WorldSpec(StrictModel):
         return list(self._warnings)
 
     def line_of(self, *path: str | int) -> int | None:
-        """The line in the world file of the deepest part of `path` that exists."""
+        """The line in the world file of the deepest part of `path` that exists (under
+        `robot`, in `robot_file` when the robot was written elsewhere)."""
+        if path[:1] == ("robot",) and self._robot_doc is not None:
+            return line_at(self._robot_doc, path[1:])
         return line_at(self._doc, path) if self._doc is not None else None
+
+    @property
+    def robot_replaced(self) -> bool:
+        """Whether the robot was written outside the world file (a mission's `robot:`)."""
+        return self._robot_doc is not None
+
+    @property
+    def robot_file(self) -> str | None:
+        """The file the robot block was written in (the world file, unless replaced)."""
+        return file_of(self._robot_doc) if self._robot_doc is not None else self._file
+
+    def use_robot(self, robot: RobotSpec, doc: Any) -> None:
+        """Stand `robot` (validated from `doc`, a block of another file) in this world."""
+        self.robot = robot
+        self._robot_doc = doc
 
     @classmethod
     def from_doc(cls, doc: Any, file: str | PathLike[str] | None = None) -> WorldSpec:
@@ -870,7 +890,91 @@ def route_crossings(spec: WorldSpec) -> list[BtnavWarning]:
     return found
 
 
-def load_world_spec(path: str | PathLike[str]) -> WorldSpec:
-    """Read and validate a world file; any mistake is a located `BtnavError`."""
+#: A Gazebo world's file names (`sdf_world_spec` reads them, not the YAML loader).
+SDF_WORLD_SUFFIXES = (".world", ".sdf")
+
+
+def _sensor_params_checked(robot: RobotSpec, doc: Any) -> None:
+    """Each sensor entry validated by its plugin where the block was written, so a robot
+    from another file (a mission's) never has its mistakes blamed on the world file."""
+    from ..plugins import lookup
+
+    file = file_of(doc)
+    for i, entry in enumerate(robot.sensors):
+        name, params = next(iter(entry.items()))
+        key: list[str | int] = ["robot", "sensors", i, name]
+        line = line_at(doc, ["sensors", i])
+        try:
+            cls = lookup("sensor", name)
+        except BtnavError as exc:
+            raise exc.located(file=file, line=line, key=key) from None
+        given = params if params is not None else YamlMap(file=file, line=line)
+        validate(cls.Params, given, file=file, key_prefix=key, error_cls=WorldError)
+
+
+def robot_from_block(block: Any, pose: Any = None) -> tuple[RobotSpec, YamlMap]:
+    """A robot block written outside a world file (a mission's `robot:`), validated and
+    located in its own file, its paths relative to that file; `pose` stands in for a
+    `pose` it leaves out ([0, 0, 0] when None). Returns the robot and the block read."""
+    file = file_of(block)
+    if not isinstance(block, dict):
+        raise WorldError(
+            "robot is a description file or a robot block {description: FILE, ...}",
+            file=file,
+            line=getattr(block, "line", None),
+            key="robot",
+        )
+    data = YamlMap(block, file=file, line=getattr(block, "line", None))
+    data.key_lines = dict(getattr(block, "key_lines", {}))
+    if "pose" not in data:
+        data["pose"] = list(pose) if pose is not None else [0.0, 0.0, 0.0]
+    robot = validate(RobotSpec, data, file=file, key_prefix=["robot"], error_cls=WorldError)
+    _sensor_params_checked(robot, data)
+    return robot, data
+
+
+def _with_robot(doc: Any, path: Path, block: Any) -> WorldSpec:
+    """The world file's scene with `block` as its robot (the world's own is not read); a
+    block without a pose starts where the world's robot does."""
+    own = doc.get("robot") if isinstance(doc, dict) else None
+    pose = own.get("pose") if isinstance(own, dict) else None
+    if isinstance(block, dict) and "pose" not in block and pose is None:
+        raise WorldError(
+            f"the robot needs a start pose and the world {path} gives none: give the "
+            "mission an initial_pose (or the robot a pose)",
+            file=file_of(block),
+            line=getattr(block, "line", None),
+            key="robot",
+        )
+    robot, data = robot_from_block(block, pose)
+    if isinstance(doc, dict):
+        scene = YamlMap(doc, file=file_of(doc), line=getattr(doc, "line", None))
+        scene.key_lines = dict(getattr(doc, "key_lines", {}))
+        scene["robot"] = robot
+        doc = scene
+    spec = WorldSpec.from_doc(doc, path)
+    spec.use_robot(robot, data)
+    return spec
+
+
+def load_world_spec(path: str | PathLike[str], robot: Any = None) -> WorldSpec:
+    """Read and validate a world file; any mistake is a located `BtnavError`.
+
+    A Gazebo world (`.world`, `.sdf`, or a world YAML naming one with `sdf:`) is read by
+    `sdf_world_spec`. `robot`, a robot block written in another file (a mission's
+    `robot:`, paths relative to that file), replaces the world's robot; without a pose
+    of its own it starts where the world's robot would.
+    """
     p = Path(path)
-    return WorldSpec.from_doc(load_yaml(p), p)
+    if p.suffix.lower() in SDF_WORLD_SUFFIXES:
+        from .sdf_world_spec import load_sdf_world  # it builds on this module
+
+        return load_sdf_world(p, robot)
+    doc = load_yaml(p)
+    if isinstance(doc, dict) and "sdf" in doc:
+        from .sdf_world_spec import load_sdf_world
+
+        return load_sdf_world(p, robot, ref=doc)
+    if robot is not None:
+        return _with_robot(doc, p, robot)
+    return WorldSpec.from_doc(doc, p)
