@@ -1,6 +1,6 @@
 """How fast the simulator runs, against its targets and against IR-SIM.
 
-    python bench/sim_speed.py [--seconds 60] [--scans 3000] [--profile]
+    python bench/sim_speed.py [--seconds 60] [--scans 3000] [--profile] [--part e]
 
 (a) real-time factor of the bare world: small_office, physics at 100 Hz, a 360-beam
     lidar at 10 Hz, odometry at 50 Hz, the robot driving a slow circle. Target 300x.
@@ -9,6 +9,14 @@
 (c) with the `bench` extra (IR-SIM installed), the same world and robot in IR-SIM
     (a diff-drive robot with a 360-beam lidar, same rates, no rendering), run in this
     process; btnav's speed is printed as a ratio of IR-SIM's.
+(e) big worlds: map-image buildings of ~500, ~5,000 and ~50,000 segments (the last a
+    50 x 50 m building at 5 cm, drawn here and loaded through a world's `map:` key),
+    Nav2's warehouse map as a world and small_office, with the same robot and 8 m lidar:
+    microseconds per scan with the compiled grid-walk kernel and with the numpy path
+    (the same bits), physics steps per second, and the real-time factor. Targets: the
+    5,000-segment world's scan within 2x of the 500-segment world's; the Nav2 warehouse
+    world at no less than half small_office's speed. Then the kernel's first-run compile
+    time (a fresh numba cache) and its load time from the cache.
 (d) the runtime's profiling hook (`runtime.profile = {}`): the share of a profiled
     run's wall time that its parts (physics, odometry, lidar, a component, a scan
     subscriber) account for. Target: at least half (the rest is the loop), at most all.
@@ -26,15 +34,21 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUME
 import argparse  # noqa: E402
 import copy  # noqa: E402
 import math  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
+import tempfile  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from btnav.core.clock import Rate, SimClock  # noqa: E402
+from btnav.core.geometry import Pose2D  # noqa: E402
 from btnav.core.messages import Twist  # noqa: E402
 from btnav.core.yaml_io import load_yaml  # noqa: E402
+from btnav.maps import OccupancyGrid, load_map, save_map  # noqa: E402
+from btnav.sim import raycast  # noqa: E402
 from btnav.sim.lidar import Lidar  # noqa: E402
 from btnav.sim.odometry import make_odometry  # noqa: E402
 from btnav.sim.sensors import make_sensors  # noqa: E402
@@ -43,6 +57,7 @@ from btnav.sim.world_spec import WorldSpec  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 SMALL_OFFICE = REPO / "worlds" / "small_office.yaml"
+NAV2_WAREHOUSE = REPO.parent / "shared" / "nav2" / "maps" / "warehouse.yaml"
 
 PHYSICS_HZ, LIDAR_HZ, ODOM_HZ = 100.0, 10.0, 50.0
 #: A circle of radius 0.5 m around (1.0, 1.5): clear of every wall and obstacle.
@@ -354,6 +369,207 @@ def bench_irsim(sim_seconds: float, btnav_rtf: float, btnav_office_scans: float)
     _line("btnav / IR-SIM, scans per second in small_office", btnav_office_scans / scan_rate, "x")
 
 
+# -- (e) big worlds ---------------------------------------------------------------------
+
+#: A generated building: square rooms of ROOM_M metres at MAP_RES, 10 cm walls with a
+#: 1.2 m doorway in the middle of every inner wall, and in each room one-cell diagonal
+#: shelves (one rectangle per step, so many segments), round pillars and boxes.
+ROOM_M, MAP_RES = 5.0, 0.05
+#: name, rooms along x and y, shelves, pillars and boxes per room. The smallest has the
+#: fewest shelves: its beams run longer, which makes the 2x target harder, not easier.
+BUILDINGS = [
+    ("building ~500 segments", 2, 1, 2, 5, 4),
+    ("building ~5,000 segments", 4, 3, 3, 5, 4),
+    ("building ~50,000 segments, 50 x 50 m", 10, 10, 3, 5, 4),
+]
+#: The robot starts in the middle of the first room, with this much clear around it.
+START_CLEAR_M = 1.5
+SCAN_TARGET_RATIO, SPEED_TARGET_RATIO = 2.0, 0.5
+
+
+def building_cells(
+    rooms_x: int, rooms_y: int, shelves: int, pillars: int, boxes: int, seed: int = 0
+) -> np.ndarray:
+    """The occupied cells (row 0 at y = 0) of a generated building; see `BUILDINGS`."""
+    rng = np.random.default_rng(seed)
+    n = round(ROOM_M / MAP_RES)
+    width, height = rooms_x * n + 2, rooms_y * n + 2
+    occ = np.zeros((height, width), bool)
+    wall, door = max(1, round(0.1 / MAP_RES)), round(1.2 / MAP_RES)
+    for i in range(rooms_x + 1):
+        x = min(i * n, width - wall)
+        occ[:, x : x + wall] = True
+    for j in range(rooms_y + 1):
+        y = min(j * n, height - wall)
+        occ[y : y + wall, :] = True
+    for j in range(rooms_y):
+        for i in range(1, rooms_x):
+            occ[j * n + (n - door) // 2 : j * n + (n + door) // 2, i * n : i * n + wall] = False
+    for i in range(rooms_x):
+        for j in range(1, rooms_y):
+            occ[j * n : j * n + wall, i * n + (n - door) // 2 : i * n + (n + door) // 2] = False
+    start, clear, margin = n / 2, START_CLEAR_M / MAP_RES, round(0.4 / MAP_RES)
+
+    def place(x0: int, y0: int, w: int, h: int) -> tuple[int, int] | None:
+        """A random corner for a w x h cell block in the room at (x0, y0), off the start."""
+        for _ in range(50):
+            px = rng.uniform(x0 + margin, x0 + n - margin - w)
+            py = rng.uniform(y0 + margin, y0 + n - margin - h)
+            qx, qy = min(max(start, px), px + w), min(max(start, py), py + h)
+            if math.hypot(qx - start, qy - start) > clear:
+                return int(px), int(py)
+        return None
+
+    for j in range(rooms_y):
+        for i in range(rooms_x):
+            x0, y0 = i * n, j * n
+            for _ in range(shelves):
+                size = int(rng.uniform(1.5, 2.2) / MAP_RES)
+                at = place(x0, y0, size, size)
+                if at is not None:
+                    k = np.arange(size)
+                    cols = at[0] + (k if rng.random() < 0.5 else size - 1 - k)
+                    occ[at[1] + k, cols] = True
+            for _ in range(pillars):
+                r = int(rng.uniform(0.1, 0.25) / MAP_RES)
+                at = place(x0, y0, 2 * r + 1, 2 * r + 1)
+                if at is not None:
+                    yy, xx = np.mgrid[-r : r + 1, -r : r + 1]
+                    block = occ[at[1] : at[1] + 2 * r + 1, at[0] : at[0] + 2 * r + 1]
+                    block |= xx * xx + yy * yy <= r * r
+            for _ in range(boxes):
+                w, h = (int(v) for v in rng.uniform(0.3, 1.0, 2) / MAP_RES)
+                at = place(x0, y0, w, h)
+                if at is not None:
+                    occ[at[1] : at[1] + h, at[0] : at[0] + w] = True
+    return occ
+
+
+def map_world(map_yaml: Path, pose: tuple[float, float], folder: Path) -> World:
+    """A world made from a map image (`map:`), with small_office's robot at `pose`."""
+    robot = copy.deepcopy(load_yaml(SMALL_OFFICE)["robot"])
+    robot["pose"] = [float(pose[0]), float(pose[1]), 0.0]
+    doc = {"world": map_yaml.stem, "map": str(map_yaml), "robot": robot}
+    return World(WorldSpec.from_doc(doc, folder / f"{map_yaml.stem}_world.yaml"), seed=0)
+
+
+def open_pose(map_yaml: Path) -> tuple[float, float]:
+    """The centre of the cell farthest from anything occupied or unknown."""
+    from scipy import ndimage
+
+    grid = load_map(map_yaml)
+    dist = ndimage.distance_transform_edt(grid.data == 0)
+    row, col = np.unravel_index(int(np.argmax(dist)), dist.shape)
+    res = grid.resolution
+    return grid.origin.x + (col + 0.5) * res, grid.origin.y + (row + 0.5) * res
+
+
+def big_worlds(folder: Path) -> list[tuple[str, Callable[[], World]]]:
+    """(label, a maker of a fresh world) for each row of (e)."""
+    rows: list[tuple[str, Callable[[], World]]] = []
+    start = (ROOM_M / 2 + MAP_RES, ROOM_M / 2 + MAP_RES)
+    for label, rx, ry, shelves, pillars, boxes in BUILDINGS:
+        occ = building_cells(rx, ry, shelves, pillars, boxes)
+        path = folder / f"building_{rx}x{ry}.yaml"
+        save_map(OccupancyGrid(np.where(occ, 100, 0), MAP_RES, Pose2D(0.0, 0.0, 0.0)), path)
+        rows.append((label, lambda path=path: map_world(path, start, folder)))
+    if NAV2_WAREHOUSE.is_file():
+        pose = open_pose(NAV2_WAREHOUSE)
+        rows.append(("Nav2's warehouse map", lambda: map_world(NAV2_WAREHOUSE, pose, folder)))
+    rows.append(("small_office", lambda: World.from_file(SMALL_OFFICE, seed=0)))
+    return rows
+
+
+def _with_method(method: raycast.Method, make: Callable[[], World]) -> World:
+    """A fresh world whose sensors (made after this) cast with `method`."""
+    raycast.DEFAULT_METHOD = method
+    return make()
+
+
+def bench_big_worlds(sim_seconds: float) -> None:
+    print(
+        f"(e) big worlds, small_office's robot (360 beams, 8 m), {sim_seconds:g} sim s each;"
+        " kernel = compiled grid walk, numpy = the numpy path (the same ranges, bit for bit)"
+    )
+    print(
+        f"  {'world':<38s} {'segments':>8s} {'kernel us':>10s} {'numpy us':>9s} {'ratio':>6s}"
+        f" {'physics steps/s':>16s} {'real time':>10s}"
+    )
+    scan_us: dict[str, float] = {}
+    rtf: dict[str, float] = {}
+    default = raycast.DEFAULT_METHOD
+    with tempfile.TemporaryDirectory() as tmp:
+        for label, make in big_worlds(Path(tmp)):
+            per_scan = {}
+            for method in ("kernel", "numpy"):
+                world = _with_method(method, make)
+                run_bare(world, 1.0)  # warm-up: the index, the kernel's cache
+                world = _with_method(method, make)
+                _, scans, spent = run_world(world, sim_seconds)
+                per_scan[method] = 1e6 * spent["lidar"] / max(scans, 1)
+                if method == "kernel":
+                    steps_per_s = sim_seconds * PHYSICS_HZ / spent["physics"]
+                    n_segments = len(world.geometry().segments)
+                    # the best of three untimed runs, as in (a)
+                    rtf[label] = max(
+                        sim_seconds / run_bare(_with_method(method, make), sim_seconds)
+                        for _ in range(3)
+                    )
+            scan_us[label] = per_scan["kernel"]
+            print(
+                f"  {label:<38s} {n_segments:>8d} {per_scan['kernel']:>10.0f}"
+                f" {per_scan['numpy']:>9.0f} {per_scan['numpy'] / per_scan['kernel']:>5.1f}x"
+                f" {steps_per_s:>16.0f} {rtf[label]:>9.0f}x"
+            )
+    raycast.DEFAULT_METHOD = default
+    small, mid = scan_us[BUILDINGS[0][0]], scan_us[BUILDINGS[1][0]]
+    ratio = mid / small
+    print(
+        f"  {'5,000-segment scan / 500-segment scan':<44s} {ratio:>10.2f} x        target"
+        f" <= {SCAN_TARGET_RATIO:.1f}  {'ok' if ratio <= SCAN_TARGET_RATIO else 'ABOVE TARGET'}"
+    )
+    if "Nav2's warehouse map" in rtf:
+        speed = rtf["Nav2's warehouse map"] / rtf["small_office"]
+        print(
+            f"  {'Nav2 warehouse real time / small_office':<44s} {speed:>10.2f} x        target"
+            f" >= {SPEED_TARGET_RATIO:.1f}  {'ok' if speed >= SPEED_TARGET_RATIO else 'BELOW TARGET'}"
+        )
+    else:
+        print(f"  Nav2's warehouse map is not at {NAV2_WAREHOUSE}: its row is skipped")
+    bench_compile_cost()
+
+
+_FIRST_SCAN = """
+import time
+t0 = time.perf_counter()
+from btnav.sim.raycast import RayCaster, beam_directions
+from btnav.sim.world import World
+world = World.from_file({office!r}, seed=0)
+t1 = time.perf_counter()
+RayCaster(method="kernel").cast(world.geometry(), (1.0, 1.0), beam_directions([0.0, 1.0]), 8.0)
+t2 = time.perf_counter()
+print(t1 - t0, t2 - t1)
+"""
+
+
+def bench_compile_cost() -> None:
+    """The kernel's first scan in a fresh interpreter: compiled into an empty numba cache,
+    then again loaded from that cache."""
+    code = _FIRST_SCAN.format(office=str(SMALL_OFFICE))
+    times = []
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for _ in range(2):
+            done = subprocess.run(
+                [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+            )
+            times.append(float(done.stdout.split()[-1]))
+    print(
+        f"  the kernel's first scan in a new process: {times[0]:.2f} s compiling (an empty"
+        f" cache), {times[1]:.2f} s loading it from the cache"
+    )
+
+
 # -- (d) the runtime's profile covers most of a step ------------------------------------
 
 PROFILE_COVERAGE_TARGET = 0.5
@@ -411,8 +627,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=60.0, help="sim seconds for (a) and (c)")
     ap.add_argument("--scans", type=int, default=3000, help="scans for (b)")
     ap.add_argument("--profile", action="store_true", help="profile (a) with pyinstrument")
+    ap.add_argument("--part", choices=list("abcde"), help="run only this part")
     args = ap.parse_args(argv)
-    print(f"btnav sim speed, one core (numpy {np.__version__}, Python {sys.version.split()[0]})")
+    import numba
+
+    print(
+        f"btnav sim speed, one core (numpy {np.__version__}, numba {numba.__version__},"
+        f" Python {sys.version.split()[0]})"
+    )
     if args.profile:
         from pyinstrument import Profiler
 
@@ -421,10 +643,18 @@ def main(argv: list[str] | None = None) -> int:
             run_world(world, args.seconds)
         prof.print(show_all=False)
         return 0
+    if args.part == "e":
+        bench_big_worlds(min(args.seconds, 20.0))
+        return 0
+    if args.part is not None and args.part not in "ab":
+        raise SystemExit("--part runs a, b or e alone (c needs a and b)")
     rtf = bench_world(args.seconds)
     _, office_scans = bench_scans(args.scans)
+    if args.part is not None:
+        return 0
     bench_irsim(args.seconds, rtf, office_scans)
     bench_profile_coverage(min(args.seconds, 10.0))
+    bench_big_worlds(min(args.seconds, 20.0))
     return 0
 
 

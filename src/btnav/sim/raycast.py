@@ -26,18 +26,32 @@ The S x B temporaries live in a scratch buffer a `RayCaster` keeps between calls
 
 Rare cases take a small exact side path: segments whose line passes through the
 origin (a x e = 0: the origin on a segment, or a ray running along one) and circles
-containing the origin (the ray meets the boundary on its way out).
+containing the origin (the ray meets the boundary on its way out). A zero-length
+segment is a point, not an edge: it is never hit.
+
+Two ways to do this work give the same bits (tests/sim/test_raycast_kernel.py): the
+numpy path here (`method="numpy"`), where a scan costs in proportion to the segments in
+range, and by default `raycast_kernel` (`method="kernel"`), compiled with numba, where
+each beam walks a grid of the static geometry and stops at its first hit, so a scan
+costs in proportion to what the beams reach (docs/decisions/0004-numba-lidar-kernel.md).
 """
 
 from __future__ import annotations
 
+import importlib
 import math
+import os
+import warnings
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..core import fmath
 from .geometry import Geometry
+
+if TYPE_CHECKING:
+    from .raycast_kernel import GridCaster
 
 #: Ray x segment pairs evaluated in one block: bounds the scratch memory (2 x 3 x 512 kB).
 CHUNK_PAIRS = 1 << 16
@@ -74,6 +88,11 @@ _NO_ROWS = np.zeros((0, 2))
 #: Where rays end when `max_range` is infinite (metres): no world is this big.
 _FAR = 1e100
 
+Method = Literal["kernel", "numpy"]
+#: How a `RayCaster` made without a `method` casts: the compiled grid walk, or numpy
+#: (environment variable BTNAV_RAYCAST=numpy; the same bits either way).
+DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_RAYCAST") == "numpy" else "kernel"
+
 
 def beam_directions(angles: ArrayLike) -> NDArray[np.float64]:
     """(B, 2) unit vectors for beam angles (radians), to be cached by a sensor."""
@@ -105,6 +124,7 @@ def _on_line_hits(segs: NDArray[np.float64], dirs: NDArray[np.float64]) -> NDArr
     e = q - p
     length = fmath.hypot(e[:, 0], e[:, 1])
     on_seg = fmath.dot_rows(p, e) * fmath.dot_rows(q, e) <= 0  # o between p and q
+    on_seg &= length > 0  # a zero-length segment is a point: never hit
     if np.any(on_seg):
         out[:] = 0.0
         return out
@@ -129,11 +149,25 @@ class RayCaster:
 
     One per sensor (not shared between threads). Methods take `dirs` as (B, 2) unit
     vectors in the world frame; the transpose of a C-ordered (2, B) array saves a copy.
+
+    `method` (default `DEFAULT_METHOD`): "kernel" walks a grid index of the geometry the
+    caster keeps from scan to scan (its static part; see `raycast_kernel.GridCaster`),
+    "numpy" evaluates every ray against every segment in range. Both give the same bits;
+    without numba the kernel falls back to numpy, with one warning.
     """
 
-    def __init__(self, chunk_pairs: int | None = None) -> None:
+    def __init__(self, chunk_pairs: int | None = None, method: Method | None = None) -> None:
         self.chunk_pairs = CHUNK_PAIRS if chunk_pairs is None else max(1, int(chunk_pairs))
         self._buf = np.empty(0)
+        method = DEFAULT_METHOD if method is None else method
+        if method not in ("kernel", "numpy"):
+            raise ValueError(f"method is 'kernel' or 'numpy', got {method!r}")
+        self.method: Method = method
+        self._grid: GridCaster | None = None
+        if method == "kernel":
+            self._grid = _grid_caster()
+            if self._grid is None:
+                self.method = "numpy"
 
     def cast(
         self,
@@ -189,13 +223,26 @@ class RayCaster:
         one_sided: bool = False,
     ) -> NDArray[np.float64]:
         ox, oy = float(origin[0]), float(origin[1])  # type: ignore[index]
-        dirs_t = np.ascontiguousarray(dirs.T)
+        dirs_t = np.ascontiguousarray(dirs.T, dtype=np.float64)
         n_rays = dirs_t.shape[1]
         t = np.full(n_rays, np.inf)
         if n_rays == 0:
             return t
         # Hits beyond `cap` read inf; an infinite max_range still needs a finite cap here.
         cap = max_range if math.isfinite(max_range) else _FAR
+        if self._grid is not None:
+            index, moving_s, moving_c = self._grid.split(segments, circles)
+            return index.cast(
+                (ox, oy),
+                dirs_t,
+                cap,
+                len(segments) >= PRUNE_MIN_SEGMENTS if prune is None else prune,
+                len(circles) >= PRUNE_MIN_CIRCLES if prune is None else prune,
+                one_sided,
+                _ROWS,
+                moving_s,
+                moving_c,
+            )
         extras: list[NDArray[np.float64]] = []  # per-ray 1/t from the exact side paths
         seg_rows, circ_rows, inv_root_c = _NO_ROWS, _NO_ROWS, _NO_ROWS
         if len(segments):
@@ -264,6 +311,26 @@ class RayCaster:
         return best
 
 
+_KERNEL_MISSING: list[str] = []
+
+
+def _grid_caster() -> GridCaster | None:
+    """A new grid caster, or None (with one warning per process) if numba is missing."""
+    if _KERNEL_MISSING:
+        return None
+    try:
+        raycast_kernel = importlib.import_module(f"{__package__}.raycast_kernel")
+    except ImportError as err:
+        _KERNEL_MISSING.append(str(err))
+        warnings.warn(
+            f"btnav's compiled lidar kernel is unavailable ({err}); casting with numpy"
+            " (the same ranges, slower in big worlds)",
+            stacklevel=3,
+        )
+        return None
+    return raycast_kernel.GridCaster()
+
+
 def _segment_rows(
     rel: NDArray[np.float64],
     dirs_t: NDArray[np.float64],
@@ -318,7 +385,8 @@ def _circle_rows(
         inside = c <= 0
         # The sensor inside a pillar: t = b + sqrt(b^2 - c), where the ray gets out.
         b = fmath.matmul_k(rel[inside, :2], dirs_t)
-        extras.append((1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0))
+        with np.errstate(divide="ignore"):  # on the boundary, going out: t = 0
+            extras.append((1.0 / (b + np.sqrt(b * b - c[inside][:, None]))).max(axis=0))
         rel, c = rel[~inside], c[~inside]
         if len(c) == 0:
             return _NO_ROWS, _NO_ROWS
