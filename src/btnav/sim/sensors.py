@@ -23,16 +23,18 @@ def make_sensors(world: World, seed: int = 0) -> list[Sensor]:
     """
     sensors: list[Sensor] = []
     frames: dict[str, int | None] = {}
+    # A robot from another file (a mission's `robot:`) is located in that file.
+    file = world.spec.robot_file if world.spec.robot_replaced else world.file
     for i, (name, params_doc, line) in enumerate(world.sensor_specs()):
         key = ["robot", "sensors", i, name]
         try:
             cls = lookup("sensor", name)
         except BtnavError as exc:
-            raise exc.located(file=world.file, line=line, key=key) from None
-        doc = params_doc if params_doc is not None else YamlMap(file=world.file, line=line)
-        params = validate(cls.Params, doc, file=world.file, key_prefix=key, error_cls=WorldError)
+            raise exc.located(file=file, line=line, key=key) from None
+        doc = params_doc if params_doc is not None else YamlMap(file=file, line=line)
+        params = validate(cls.Params, doc, file=file, key_prefix=key, error_cls=WorldError)
         frame = params.frame
-        where = dict(file=world.file, line=world.spec.line_of(*key, "frame") or line, key=key)
+        where = dict(file=file, line=world.spec.line_of(*key, "frame") or line, key=key)
         if frame in RESERVED_FRAMES:
             raise WorldError(
                 f"sensor frame '{frame}' is one of the robot's own frames "

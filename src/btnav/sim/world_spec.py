@@ -894,24 +894,6 @@ def route_crossings(spec: WorldSpec) -> list[BtnavWarning]:
 SDF_WORLD_SUFFIXES = (".world", ".sdf")
 
 
-def _sensor_params_checked(robot: RobotSpec, doc: Any) -> None:
-    """Each sensor entry validated by its plugin where the block was written, so a robot
-    from another file (a mission's) never has its mistakes blamed on the world file."""
-    from ..plugins import lookup
-
-    file = file_of(doc)
-    for i, entry in enumerate(robot.sensors):
-        name, params = next(iter(entry.items()))
-        key: list[str | int] = ["robot", "sensors", i, name]
-        line = line_at(doc, ["sensors", i])
-        try:
-            cls = lookup("sensor", name)
-        except BtnavError as exc:
-            raise exc.located(file=file, line=line, key=key) from None
-        given = params if params is not None else YamlMap(file=file, line=line)
-        validate(cls.Params, given, file=file, key_prefix=key, error_cls=WorldError)
-
-
 def robot_from_block(block: Any, pose: Any = None) -> tuple[RobotSpec, YamlMap]:
     """A robot block written outside a world file (a mission's `robot:`), validated and
     located in its own file, its paths relative to that file; `pose` stands in for a
@@ -929,7 +911,6 @@ def robot_from_block(block: Any, pose: Any = None) -> tuple[RobotSpec, YamlMap]:
     if "pose" not in data:
         data["pose"] = list(pose) if pose is not None else [0.0, 0.0, 0.0]
     robot = validate(RobotSpec, data, file=file, key_prefix=["robot"], error_cls=WorldError)
-    _sensor_params_checked(robot, data)
     return robot, data
 
 
