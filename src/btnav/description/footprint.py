@@ -21,7 +21,7 @@ import numpy as np
 
 from ..core import fmath
 from ..core.errors import BtnavWarning
-from .meshes import MeshError, MeshSources, read_vertices
+from .meshes import MeshError, MeshSources
 from .model import Geometry, RobotModel
 from .robot_description import FootprintDescription
 from .transforms import Transform, apply, compose, up_of
@@ -95,7 +95,7 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
 def _mesh_points(g: Geometry, pose: Transform, link: str, meshes: MeshSources) -> np.ndarray | None:
     """The mesh's vertices in the base frame, seen from above; None (and a warning) if unread."""
     try:
-        v = read_vertices(meshes.path(g.uri or "", g.file)) * np.asarray(g.size, dtype=float)
+        v = meshes.scaled_vertices(g)
     except MeshError as exc:
         warnings.warn(
             BtnavWarning(

@@ -22,6 +22,7 @@ from urllib.parse import unquote
 import numpy as np
 
 from ..core.errors import BtnavError
+from .model import Geometry
 from .model_paths import SCHEME, ModelPaths
 from .packages import PackagePaths
 
@@ -39,6 +40,11 @@ class MeshSources:
 
     packages: PackagePaths = field(default_factory=PackagePaths)
     models: ModelPaths = field(default_factory=ModelPaths)
+
+    def scaled_vertices(self, g: Geometry) -> np.ndarray:
+        """A mesh geometry's vertices, (N, 3) in metres with its `<scale>` applied (a
+        `MeshError` if the file cannot be found or read)."""
+        return read_vertices(self.path(g.uri or "", g.file)) * np.asarray(g.size, dtype=float)
 
     def path(self, uri: str, near: str | None) -> Path:
         """The file `uri` names, as written in the file `near` (a `MeshError` if none)."""

@@ -44,7 +44,7 @@ from ..core.suggest import best_match
 from .errors import DescriptionError
 from .footprint import _thin, convex_hull
 from .gazebo_sensors import sdf_pose
-from .meshes import MeshError, MeshSources, read_vertices
+from .meshes import MeshError, MeshSources
 from .model import Geometry
 from .model_paths import SCHEME, ModelPaths, split_uri
 from .packages import PackagePaths
@@ -585,7 +585,7 @@ def _polyline(c: WorldCollision, lo: float, hi: float) -> list[GroundShape]:
 def _mesh(c: WorldCollision, lo: float, hi: float, meshes: MeshSources) -> GroundShape | None:
     g = c.geometry
     try:
-        v = read_vertices(meshes.path(g.uri or "", g.file)) * np.asarray(g.size, dtype=float)
+        v = meshes.scaled_vertices(g)
     except MeshError as exc:
         warnings.warn(
             BtnavWarning(
