@@ -118,7 +118,6 @@ def mppi_stage_profile(controller, cycles: int) -> dict[str, float]:
         return run
 
     opt.noise.sample = timed("noise sampling", opt.noise.sample)
-    opt.model.apply_velocity_limits = timed("velocity limits", opt.model.apply_velocity_limits)
     opt.model.predict = timed("motion model (acceleration loop)", opt.model.predict)
     opt._rollouts = timed("rollout integration", opt._rollouts)
     opt._update_control_sequence = timed("softmax + control update", opt._update_control_sequence)

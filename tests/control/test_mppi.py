@@ -83,7 +83,7 @@ def test_keeps_clear_of_a_lethal_obstacle(nav2_mppi, obstacle):
             break
         cmd = controller.compute_velocity_commands(pose, vel, cm, gc)
         # The plan MPPI settles on never runs into the obstacle's lethal cells.
-        best = controller.optimal_trajectory(pose, cmd)
+        best = controller.optimal_trajectory(pose)
         assert (cells_under(cm, best) < LETHAL_OBSTACLE).all()
         v, w = cmd.linear_x, cmd.angular_z
         yaw = pose.yaw + 0.5 * w * 0.05

@@ -110,10 +110,12 @@ def test_samples_may_turn_tighter_than_the_car_the_optimal_sequence_never(ackerm
     vx, wz = u[:, 0], u[:, 1]
     # Nav2 samples freely and lets the ConstraintCritic score tight turns
     assert not within_turning_limit(vx, wz, MIN_TURNING_R)
-    # the velocity limits still hold for every sample
-    assert vx.max() <= 0.5 and vx.min() >= -0.5 and np.abs(wz).max() <= 1.9
-    # the sequence kept for the next cycle and the command obey the car's limit
+    # and leaves the velocity box to the ConstraintCritic too: some samples leave it
+    assert vx.max() > 0.5 or np.abs(wz).max() > 1.9
+    # the sequence kept for the next cycle and the command obey the velocity limits
     cs = opt.control_sequence
+    assert cs[:, 0].max() <= 0.5 and cs[:, 0].min() >= -0.5 and np.abs(cs[:, 2]).max() <= 1.9
+    # and the car's limit
     assert within_turning_limit(cs[:, 0], cs[:, 2], MIN_TURNING_R)
     assert abs(cmd.angular_z) <= abs(cmd.linear_x) / MIN_TURNING_R + 1e-6
     # and it turns left along the arc, at a yaw rate a 1.2 m arc needs at that speed

@@ -17,7 +17,6 @@ from btnav.control.mppi.motion_models import (
     DiffDriveMotionModel,
     OmniMotionModel,
     make_motion_model,
-    predict_one,
 )
 from btnav.costmap.cost_values import NO_INFORMATION
 
@@ -79,28 +78,14 @@ def test_predict_and_constraints_match_the_broadcast_limits():
     ):
         C = model.channels
         u = RNG.normal(0.0, 0.6, (56, C, 300)).astype(np.float32)
-        lo, hi = model._limits()
-        clipped = np.clip(u, lo, hi)
-        model.apply_velocity_limits(u)
-        assert np.array_equal(u.view(np.uint32), clipped.view(np.uint32))
         speed = np.array([0.3, -0.2, 0.1][:C], np.float32)
         u2, v, v2 = u.copy(), np.empty_like(u), np.empty_like(u)
         for _ in range(2):  # the second call reads the cached limit rows
             u1 = u.copy()
-            model.predict(u1, v, speed)
+            model.predict(u1, v, speed, write_back=True)
         _predict_broadcast(model, u2, v2, speed)
         assert np.array_equal(v.view(np.uint32), v2.view(np.uint32))
         assert np.array_equal(u1.view(np.uint32), u2.view(np.uint32))
-
-
-def test_predict_one_cut_short_is_the_prefix():
-    model = make_motion_model(DiffDriveMotionModel, ControlConstraints(), 0.05)
-    cs = RNG.normal(0.0, 0.5, (56, 3)).astype(np.float32)
-    full = predict_one(model, cs, (0.2, 0.0, -0.3))
-    for n in (1, 2, 40, 56):
-        cut = predict_one(model, cs, (0.2, 0.0, -0.3), n)
-        assert [len(c) for c in cut] == [n] * 3
-        assert all(a == b[:n] for a, b in zip(cut, full, strict=True))
 
 
 def test_constraint_critic_skip_leaves_the_costs_as_adding_its_zeros_does():

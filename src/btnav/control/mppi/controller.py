@@ -77,6 +77,8 @@ class MPPIController(Controller):
             model_delay=(p.model_delay_vx, p.model_delay_vy, p.model_delay_wz),
             collision_lookahead_time=v.collision_lookahead_time,
             validator_consider_footprint=v.consider_footprint,
+            clamp_raw_controls=p.clamp_raw_controls,
+            sgf_order=p.sgf_order,
         )
         self.optimizer = Optimizer(settings, self.model, self.critics, self.rng)
         self.pruner = PathPruner(
@@ -87,7 +89,15 @@ class MPPIController(Controller):
             p.inversion_yaw_tolerance,
         )
         self._has_plan = False
-        self._last_cmd = Twist()
+
+    @property
+    def control_duration(self) -> float:
+        """The controller server's period (1 / controller_frequency), set by the server."""
+        return self.optimizer.s.controller_period
+
+    @control_duration.setter
+    def control_duration(self, period: float) -> None:
+        self.optimizer.s.controller_period = period
 
     def _make_model(self, constraints: ControlConstraints) -> MotionModel:
         choice = self.params.model_section()
@@ -120,12 +130,11 @@ class MPPIController(Controller):
         half_diag = 0.5 * math.hypot(*costmap.size_in_meters)
         path = self.pruner.local_path(robot, half_diag)
         goal = np.asarray(self.pruner.goal(), dtype=np.float64)
-        if self.params.open_loop:
-            velocity = self._last_cmd
         speed = (float(velocity.linear_x), float(velocity.linear_y), float(velocity.angular_z))
-        vx, vy, wz = self.optimizer.eval_control(robot, speed, path, goal, costmap, goal_checker)
-        self._last_cmd = Twist(linear_x=vx, linear_y=vy, angular_z=wz)
-        return self._last_cmd
+        vx, vy, wz = self.optimizer.eval_control(
+            robot, speed, path, goal, costmap, goal_checker, self.params.open_loop
+        )
+        return Twist(linear_x=vx, linear_y=vy, angular_z=wz)
 
     def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
         """Scale vx/vy/wz limits (Nav2: a percentage, or an absolute vx that sets the ratio)."""
@@ -142,14 +151,9 @@ class MPPIController(Controller):
     def reset(self) -> None:
         self.optimizer.reset()
         self._has_plan = False
-        self._last_cmd = Twist()
 
     # -- introspection ------------------------------------------------------------------
 
-    def optimal_trajectory(self, pose: Pose2D, velocity: Twist | None = None) -> np.ndarray:
+    def optimal_trajectory(self, pose: Pose2D) -> np.ndarray:
         """(T, 3) poses of the current (already shifted) control sequence, for plots and tests."""
-        robot = np.array([pose.x, pose.y, pose.yaw])
-        velocity = velocity if velocity is not None else Twist()
-        return self.optimizer.optimal_trajectory(
-            robot, (velocity.linear_x, velocity.linear_y, velocity.angular_z)
-        )
+        return self.optimizer.optimal_trajectory(np.array([pose.x, pose.y, pose.yaw]))

@@ -6,11 +6,11 @@ contiguous block and the step-by-step acceleration loop costs one ufunc call per
 operation for all channels at once. The optimizer hands critics (batch_size,
 time_steps) views.
 
-Two kinds of limit, applied where Nav2 applies them:
+Limits are applied where Nav2 applies them: the sampled controls stay raw (the
+ConstraintCritic penalises what leaves the velocity box), the rollouts follow them as
+far as the acceleration limits allow (`predict`), and the optimizer clamps the
+optimal sequence to the velocity and acceleration limits. Besides:
 
-- `apply_velocity_limits` clips the sampled controls to the velocity box. Nav2 leaves
-  its samples raw and lets the ConstraintCritic penalise what leaves the box; btnav
-  clips them (the trajectories its tests pin were made so), for every model alike.
 - `apply_constraints` is Nav2's `MotionModel::applyConstraints`: the model's own hard
   limit, applied to the optimal control sequence only (after the softmax, and again
   as the last step before the command is read). A diff-drive or omni robot has none;
@@ -73,19 +73,6 @@ class MotionModel(Plugin):
     def channels(self) -> int:
         return 3 if self.holonomic else 2
 
-    def _limits(self) -> tuple[F32, F32]:
-        c = self.c
-        lo = [c.vx_min, -c.wz_max, -c.vy_max][: self.channels]
-        hi = [c.vx_max, c.wz_max, c.vy_max][: self.channels]
-        return np.array(lo, np.float32)[:, None], np.array(hi, np.float32)[:, None]
-
-    def apply_velocity_limits(self, u: F32) -> None:
-        """Clip sampled controls (T, C, B) to the velocity limits, in place (channel by
-        channel: scalar bounds clip ~2x faster than broadcast (C, 1) ones, to the same values)."""
-        lo, hi = self._limits()
-        for ch in range(u.shape[1]):
-            np.clip(u[:, ch], lo[ch, 0], hi[ch, 0], out=u[:, ch])
-
     def apply_constraints(self, control_sequence: NDArray[np.float32]) -> None:
         """The model's hard limits on the optimal control sequence (T, 3: vx, vy, wz), in
         place; Nav2's `applyConstraints`. None for a diff-drive or omni robot."""
@@ -109,14 +96,15 @@ class MotionModel(Plugin):
             cached = self._accel_cache = (key, rows, symmetric)
         return cached[1][0], cached[1][1], cached[2]
 
-    def predict(self, u: F32, v: F32, speed: F32) -> None:
+    def predict(self, u: F32, v: F32, speed: F32, write_back: bool = False) -> None:
         """Velocities the rollouts follow, in place in `v` (T, C, B).
 
         v[0] is the robot's current `speed` (per channel); v[i] is control u[i-1] as far
         as the acceleration limits allow from v[i-1]: speeding up away from zero is
         limited by ax_max, slowing towards zero by ax_min, in either direction (az_max
-        both ways for wz). The controls are then replaced by what was achievable
-        (u[i-1] = v[i]), so the softmax averages feasible sequences, as Nav2's does.
+        both ways for wz). With `write_back` (Nav2's clamp_raw_controls) the controls
+        are then replaced by what was achievable (u[i-1] = v[i]), so the softmax
+        averages feasible sequences; by default it averages the raw samples, as Nav2's.
         """
         up, down, symmetric = self._accel_steps(v.shape[2])
         v[0] = speed[:, None]
@@ -136,34 +124,8 @@ class MotionModel(Plugin):
                 lo = prev + np.where(pos, down, -up)
                 hi = prev + np.where(pos, up, -down)
                 np.clip(u[i - 1], lo, hi, out=v[i])
-        u[:-1] = v[1:]
-
-
-def predict_one(
-    model: MotionModel,
-    cs: NDArray[np.float32],
-    speed: tuple[float, float, float],
-    steps: int | None = None,
-) -> tuple[list[float], list[float], list[float]]:
-    """The same acceleration limits for one control sequence (T, 3: vx, vy, wz), in plain
-    floats; only the first `steps` velocities if given."""
-    c, dt = model.c, model.dt
-    out: list[list[float]] = []
-    specs = [(0, speed[0], c.ax_max, c.ax_min), (2, speed[2], c.az_max, -c.az_max)]
-    specs.insert(1, (1, speed[1], c.ay_max, c.ay_min) if model.holonomic else (1, 0.0, 0.0, 0.0))
-    n = len(cs) if steps is None else min(max(steps, 1), len(cs))
-    for col, v0, a_up, a_down in specs:
-        seq = cs[: n - 1, col].tolist()
-        vs = [v0]
-        for i in range(1, n):
-            prev = vs[-1]
-            if prev > 0:
-                lo, hi = prev + a_down * dt, prev + a_up * dt
-            else:
-                lo, hi = prev - a_up * dt, prev - a_down * dt
-            vs.append(min(max(seq[i - 1], lo), hi))
-        out.append(vs)
-    return out[0], out[1], out[2]
+        if write_back:
+            u[:-1] = v[1:]
 
 
 @register("motion_model", "mppi::DiffDriveMotionModel")

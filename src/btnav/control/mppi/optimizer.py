@@ -1,24 +1,31 @@
-"""MPPI's optimizer (mppi::Optimizer): sample, roll out, score, softmax, smooth, shift.
+"""MPPI's optimizer (mppi::Optimizer, as in Nav2 main): sample, roll out, score, softmax,
+smooth, constrain, send, shift.
 
 One cycle, all batch-wide numpy on float32:
 
-1. noise: `batch_size` perturbations of the current control sequence (noise.py);
-2. controls clipped to the velocity limits, then the acceleration limits applied
-   step by step from the robot's current speed (motion_models.py) - the only loop,
-   over `time_steps`, each step a row of `batch_size` values; the motion model's own
-   constraint (an Ackermann robot's turning radius) is not applied to the samples
-   (the ConstraintCritic scores it there), only to the optimal sequence, as in Nav2;
-3. rollouts by cumulative sums: yaw = yaw0 + cumsum(wz dt), then x, y by cumsum of
+0. the speed the command will meet: the last command, as far as one controller period
+   of acceleration from the measured speed allows (Nav2's prepare); the sequence's
+   first step is pinned to it (when shifting) or clamped within reach of it;
+1. noise: `batch_size` perturbations of the control sequence (noise.py), kept raw: what
+   leaves the velocity box is the ConstraintCritic's to score;
+2. the rollouts' velocities follow the controls as far as the acceleration limits
+   allow, step by step from that speed (motion_models.py: the only loop, over
+   `time_steps`, each step a row of `batch_size` values); `clamp_raw_controls` writes
+   them back into the controls;
+3. rollouts by running sums: yaw = yaw0 + cumsum(wz dt), then x, y by cumsum of
    v cos/sin(previous yaw) dt;
 4. critics add their costs (critics/);
-5. the control cost `gamma / std^2 * sum(noise * control)` per rollout, then softmax
-   weights `exp(-(cost - min) / temperature)` normalised, and the new control
-   sequence is the weighted mean of the sampled controls (a matrix-vector product),
-   clipped to the velocity limits and the motion model's constraints;
-6. repeated `iteration_count` times; then Savitzky-Golay smoothing, the motion
-   model's constraints once more (Nav2 main applies them last, so a smoothed car
-   command never turns tighter than it can), the command read at the model delay,
-   and the sequence shifted one step for the next cycle.
+5. the control cost `gamma / std^2 * sum(noise * control)` per rollout, softmax weights
+   `exp(-(cost - min) / temperature)` normalised, and the new sequence is the weighted
+   mean of the sampled controls; then Savitzky-Golay smoothing with the sent-command
+   history (`sgf_order`), and the sequence made feasible: the model's constraints, the
+   velocity limits and the acceleration limits from the speed (one controller period
+   to the first step, model_dt after), the model's constraints again;
+6. repeated `iteration_count` times; the optimal trajectory is checked by the
+   validator (a soft reset and a retry, then NoValidControl); the command is the
+   second step when the controller runs once per model step (Nav2's shifted sequence,
+   whose first step is "now"), the first otherwise, later by the model delay; then
+   the sequence is shifted one step for the next cycle.
 
 Storage is (time_steps, batch_size) C-order; critics get (batch_size, time_steps)
 views (`.T`), the shape Nav2's critics index.
@@ -39,11 +46,20 @@ from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
 from .critic_data import CriticData, cell_costs
 from .critic_function import CriticFunction
-from .motion_models import MotionModel, predict_one
+from .motion_models import MotionModel
 from .noise import NoiseGenerator
 from .smoothing import HISTORY, savitzky_golay
 
 F32 = NDArray[np.float32]
+
+
+def clamp_by_accel(last: float, value: float, min_delta: float, max_delta: float) -> float:
+    """`value` as far as one step from `last` allows: `max_delta` speeds up (away from
+    zero, either direction), `min_delta` (negative) slows down; Nav2's
+    clampVelocityByAccel."""
+    if last >= 0.0:
+        return min(last + max_delta, max(value, last + min_delta))
+    return min(last - min_delta, max(value, last - max_delta))
 
 
 @dataclass
@@ -62,6 +78,16 @@ class OptimizerSettings:
     model_delay: tuple[float, float, float] = (0.0, 0.0, 0.0)
     collision_lookahead_time: float = 2.0
     validator_consider_footprint: bool = False
+    #: 1 / the controller server's controller_frequency.
+    controller_period: float = 0.05
+    clamp_raw_controls: bool = False
+    sgf_order: int = 2
+
+    @property
+    def shift_control_sequence(self) -> bool:
+        """Nav2 shifts the sequence (and sends its second step) when the controller runs
+        once per model step."""
+        return abs(self.controller_period - self.model_dt) < 1e-6
 
 
 class Optimizer:
@@ -102,6 +128,7 @@ class Optimizer:
         T = self.s.time_steps
         self.control_sequence = np.zeros((T, 3), np.float32)  # vx, vy, wz
         self.control_history = np.zeros((HISTORY, 3), np.float32)
+        self.last_command = (0.0, 0.0, 0.0)
         self.noise.reset()
 
     def shift_control_sequence(self) -> None:
@@ -125,10 +152,12 @@ class Optimizer:
         goal: NDArray[np.float64],
         costmap: Costmap2D,
         goal_checker: Any = None,
+        open_loop: bool = False,
     ) -> tuple[float, float, float]:
         """The command (vx, vy, wz) for this cycle; raises `NoValidControl` when none is found."""
         from ..exceptions import NoValidControl
 
+        speed = self.last_command if open_loop else self._expected_speed(speed)
         failures = 0
         while True:
             data = None
@@ -136,7 +165,7 @@ class Optimizer:
                 data = self._iterate(robot, speed, path, goal, costmap, goal_checker)
             assert data is not None
             self.last_data = data
-            fail = data.fail_flag or not self._trajectory_valid(robot, speed, costmap)
+            fail = data.fail_flag or not self._trajectory_valid(robot, costmap)
             if not fail:
                 break
             self.reset()
@@ -145,19 +174,33 @@ class Optimizer:
                 raise NoValidControl(
                     "MPPI: no valid control: every rollout or the optimal path collides"
                 )
-        savitzky_golay(self.control_sequence, self.control_history)
-        self.model.apply_constraints(self.control_sequence)
         command = self._command()
-        self.control_history[:-1] = self.control_history[1:]
-        self.control_history[-1] = self.control_sequence[0]
-        self.shift_control_sequence()
+        self.last_command = command
+        if self.s.shift_control_sequence:
+            self.shift_control_sequence()
         return command
 
     def _command(self) -> tuple[float, float, float]:
+        """The step the robot is sent: the second when shifting (the first is now), later
+        by the model delay."""
         cs, dt, t = self.control_sequence, self.s.model_dt, self.s.time_steps
-        idx = [min(round(d / dt), t - 1) for d in self.s.model_delay]
+        offset = 1 if self.s.shift_control_sequence else 0
+        idx = [min(offset + round(d / dt), t - 1) for d in self.s.model_delay]
         vy = float(cs[idx[1], 1]) if self.holonomic else 0.0
         return float(cs[idx[0], 0]), vy, float(cs[idx[2], 2])
+
+    def _expected_speed(self, speed: tuple[float, float, float]) -> tuple[float, float, float]:
+        """The speed when this cycle's command takes effect: the last command, as far as
+        one controller period of acceleration from the measured speed allows (Nav2's
+        prepare)."""
+        c, dt = self.model.c, self.s.controller_period
+        last = self.last_command
+        vx = min(max(last[0], speed[0] + dt * c.ax_min), speed[0] + dt * c.ax_max)
+        wz = min(max(last[2], speed[2] - dt * c.az_max), speed[2] + dt * c.az_max)
+        vy = speed[1]
+        if self.holonomic:
+            vy = min(max(last[1], speed[1] + dt * c.ay_min), speed[1] + dt * c.ay_max)
+        return vx, vy, wz
 
     def _iterate(
         self,
@@ -169,14 +212,14 @@ class Optimizer:
         goal_checker: Any,
     ) -> CriticData:
         s, u, v = self.s, self.u, self.v
-        # Sampled controls: the current sequence plus noise, then the velocity limits,
-        # then the acceleration limits from the robot's current speed. Not the model's
-        # constraints: Nav2 applies those to the optimal sequence only.
+        self._pin_first_step(speed)
+        # Sampled controls: the current sequence plus noise, raw (the ConstraintCritic
+        # scores what leaves the velocity box); the rollouts follow them as far as the
+        # acceleration limits allow from the robot's speed.
         self.noise.sample(out=u)
         np.add(u, self._sequence_channels(), out=u)
-        self.model.apply_velocity_limits(u)
         speeds = np.array([speed[0], speed[2], speed[1]][: self.model.channels], np.float32)
-        self.model.predict(u, v, speeds)
+        self.model.predict(u, v, speeds, write_back=s.clamp_raw_controls)
         self._rollouts(robot, v)
         c = self.model.c
         vy = v[:, 2].T if self.holonomic else self._zeros
@@ -208,8 +251,20 @@ class Optimizer:
         )
         for critic in self.critics:
             critic.score(data)
-        self._update_control_sequence(data.costs)
+        self._update_control_sequence(data.costs, speed)
         return data
+
+    def _pin_first_step(self, speed: tuple[float, float, float]) -> None:
+        """Nav2's inter-iteration constraint: the sequence's first step is the speed now
+        (when shifting: it is not sent) or within one controller period of it."""
+        cs, c, dt = self.control_sequence, self.model.c, self.s.controller_period
+        if self.s.shift_control_sequence:
+            cs[0] = (speed[0], speed[1] if self.holonomic else 0.0, speed[2])
+            return
+        cs[0, 0] = clamp_by_accel(speed[0], float(cs[0, 0]), c.ax_min * dt, c.ax_max * dt)
+        cs[0, 2] = clamp_by_accel(speed[2], float(cs[0, 2]), -c.az_max * dt, c.az_max * dt)
+        if self.holonomic:
+            cs[0, 1] = clamp_by_accel(speed[1], float(cs[0, 1]), c.ay_min * dt, c.ay_max * dt)
 
     def _rollouts(self, robot: NDArray[np.float64], v: F32) -> None:
         """Poses from velocities (T, C, B) by running sums; the first pose is the robot's.
@@ -242,7 +297,7 @@ class Optimizer:
         for i in range(1, T):
             np.add(pos[i - 1], pos[i], out=pos[i])
 
-    def _update_control_sequence(self, costs: F32) -> None:
+    def _update_control_sequence(self, costs: F32, speed: tuple[float, float, float]) -> None:
         s, cs, u = self.s, self.control_sequence, self.u
         # Control cost: gamma / std^2 * sum_t (noise_t * u_t), noise = sampled - current.
         seq = self._sequence_channels()[:, :, 0]  # (T, C)
@@ -268,28 +323,48 @@ class Optimizer:
         cs[:, 2] = mean[:, 1]
         if self.holonomic:
             cs[:, 1] = mean[:, 2]
-        c = self.model.c
-        np.clip(cs[:, 0], c.vx_min, c.vx_max, out=cs[:, 0])
-        np.clip(cs[:, 2], -c.wz_max, c.wz_max, out=cs[:, 2])
-        np.clip(cs[:, 1], -c.vy_max, c.vy_max, out=cs[:, 1])
+        offset = 1 if s.shift_control_sequence else 0
+        savitzky_golay(cs, self.control_history, s.sgf_order, offset)
+        self._apply_sequence_constraints(speed)
+
+    def _apply_sequence_constraints(self, speed: tuple[float, float, float]) -> None:
+        """Nav2's applyControlSequenceConstraints: the optimal sequence within the
+        velocity limits and reachable step by step from the speed now (the first step
+        in one controller period, the rest in model_dt each), inside the model's own
+        constraints before and after."""
+        cs, c, s = self.control_sequence, self.model.c, self.s
+        self.model.apply_constraints(cs)
+        if s.shift_control_sequence:
+            cs[0] = (speed[0], speed[1] if self.holonomic else 0.0, speed[2])
+        channels = [(0, speed[0], c.vx_min, c.vx_max, c.ax_min, c.ax_max),
+                    (2, speed[2], -c.wz_max, c.wz_max, -c.az_max, c.az_max)]  # fmt: skip
+        if self.holonomic:
+            channels.append((1, speed[1], -c.vy_max, c.vy_max, c.ay_min, c.ay_max))
+        for col, last, lo, hi, a_down, a_up in channels:
+            values = cs[:, col].tolist()
+            dt = s.controller_period
+            for i, value in enumerate(values):
+                value = min(hi, max(value, lo))
+                last = float(np.float32(clamp_by_accel(last, value, a_down * dt, a_up * dt)))
+                values[i] = last
+                dt = s.model_dt
+            cs[:, col] = values
         self.model.apply_constraints(cs)
 
     # -- the optimal trajectory -------------------------------------------------------
 
     def optimal_trajectory(
-        self,
-        robot: NDArray[np.float64],
-        speed: tuple[float, float, float],
-        steps: int | None = None,
+        self, robot: NDArray[np.float64], steps: int | None = None
     ) -> NDArray[np.float64]:
-        """(T, 3) poses the current control sequence leads to (accelerations limited); only
-        the first `steps` poses if given."""
-        vx, vy, wz = predict_one(self.model, self.control_sequence, speed, steps)
+        """(T, 3) poses the control sequence leads to (it is feasible from the speed
+        already: Nav2 integrates it as it is); only the first `steps` poses if given."""
+        cs = self.control_sequence if steps is None else self.control_sequence[:steps]
         dt = self.s.model_dt
         x, y, yaw = float(robot[0]), float(robot[1]), float(robot[2])
         sincos = fmath.sincos
         rows = []
-        for vx_, vy_, wz_ in zip(vx, vy, wz, strict=True):
+        vy_col = cs[:, 1].tolist() if self.holonomic else [0.0] * len(cs)
+        for vx_, vy_, wz_ in zip(cs[:, 0].tolist(), vy_col, cs[:, 2].tolist(), strict=True):
             s_, c = sincos(yaw)
             x += (vx_ * c - vy_ * s_) * dt
             y += (vx_ * s_ + vy_ * c) * dt
@@ -297,16 +372,14 @@ class Optimizer:
             rows.append((x, y, yaw))
         return np.array(rows, dtype=np.float64).reshape(-1, 3)
 
-    def _trajectory_valid(
-        self, robot: NDArray[np.float64], speed: tuple[float, float, float], costmap: Costmap2D
-    ) -> bool:
+    def _trajectory_valid(self, robot: NDArray[np.float64], costmap: Costmap2D) -> bool:
         """DefaultOptimalTrajectoryValidator: within `collision_lookahead_time`, no point
         on a lethal or inscribed cell (points off the grid are skipped), or with
         `consider_footprint` no pose whose footprint touches a lethal cell."""
         n = min(self.s.time_steps, math.ceil(self.s.collision_lookahead_time / self.s.model_dt))
         if n <= 0:
             return True
-        traj = self.optimal_trajectory(robot, speed, n)
+        traj = self.optimal_trajectory(robot, n)
         if self.s.validator_consider_footprint and self.costmap_ros is not None:
             fp = self.costmap_ros.footprint
             costs = footprint_costs(costmap, fp, traj[:, 0], traj[:, 1], traj[:, 2])

@@ -118,6 +118,8 @@ class MPPIParams(ParamsModel):
     model_delay_vy: float = Field(0.0, ge=0.0)
     model_delay_wz: float = Field(0.0, ge=0.0)
     open_loop: bool = False
+    clamp_raw_controls: bool = False
+    sgf_order: int = Field(2, ge=1, le=2)
     regenerate_noises: bool = False
     retry_attempt_limit: int = Field(1, ge=0)
     motion_model: str = "diff_drive"
