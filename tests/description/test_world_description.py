@@ -224,3 +224,40 @@ def test_a_description_without_a_lidar_says_the_robot_has_none(tmp_path):
     with pytest.warns(BtnavWarning, match="has no 2D lidar"):
         world = World.from_file(path)
     assert world.sensor_specs() == []
+
+
+def _robot_in_a_package(folder: Path) -> dict[str, Any]:
+    """A xacro that includes `$(find my_robot)/body.xacro`, the package outside the world."""
+    (folder / "elsewhere" / "my_robot").mkdir(parents=True)
+    (folder / "elsewhere" / "my_robot" / "body.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base_link">'
+        '<collision><geometry><cylinder radius="0.17" length="0.1"/></geometry></collision>'
+        "</link></robot>"
+    )
+    (folder / "robot.urdf.xacro").write_text(
+        '<robot name="mine" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find my_robot)/body.xacro"/></robot>'
+    )
+    return {"description": "../robot.urdf.xacro", "pose": [1, 1, 0], "sensors": []}
+
+
+def test_package_on_the_command_line_resolves_a_world_robots_find(tmp_path, capsys):
+    world = office_world(tmp_path, _robot_in_a_package(tmp_path))
+    mission = write_mission(
+        tmp_path, world=str(world), task={"navigate_to_pose": [2.0, 1.0, 0.0]}, time_limit=1.0
+    )
+    # without it: one error that names the option to give
+    assert main(["frames", str(mission)]) == 2
+    assert "--package my_robot=DIR" in capsys.readouterr().err
+    package = f"my_robot={tmp_path / 'elsewhere' / 'my_robot'}"
+    assert main(["frames", str(mission), "--package", package]) == 0
+    assert "base_link" in capsys.readouterr().out
+    assert main(["run", str(mission), "--package", package, "-o", str(tmp_path / "out")]) in (0, 1)
+    assert "robot description" not in capsys.readouterr().err
+
+
+def test_a_package_folder_that_is_not_there_is_the_option_s_error(tmp_path, capsys):
+    mission = write_mission(tmp_path, task={"navigate_to_pose": [2.0, 1.0, 0.0]}, time_limit=1.0)
+    assert main(["run", str(mission), "--package", f"my_robot={tmp_path / 'nope'}"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("btnav: error: --package") and "is not a folder" in err

@@ -19,6 +19,7 @@ import argparse
 import sys
 import warnings
 from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from typing import Any, TextIO
 
 from .. import __version__
@@ -130,18 +131,27 @@ def _overrides(args: argparse.Namespace) -> tuple[dict[str, object], dict[str, s
     return values, origins
 
 
+def _packages(args: argparse.Namespace) -> AbstractContextManager[None]:
+    """`--package NAME=DIR` for the descriptions the command loads."""
+    from ..description.packages import command_line_packages
+    from .robot import package_option
+
+    return command_line_packages(package_option(args.package or ()))
+
+
 def _run(args: argparse.Namespace) -> int:
     from .run import run_main
 
     overrides, origins = _overrides(args)
-    return run_main(
-        args.mission,
-        out=args.out,
-        seed=args.seed,
-        overrides=overrides,
-        origins=origins,
-        gif=args.gif,
-    )
+    with _packages(args):
+        return run_main(
+            args.mission,
+            out=args.out,
+            seed=args.seed,
+            overrides=overrides,
+            origins=origins,
+            gif=args.gif,
+        )
 
 
 def _batch(args: argparse.Namespace) -> int:
@@ -164,7 +174,8 @@ def _batch(args: argparse.Namespace) -> int:
 def _frames_of_mission(args: argparse.Namespace) -> int:
     from .frames import frames_main
 
-    return frames_main(args.mission, *_overrides(args))
+    with _packages(args):
+        return frames_main(args.mission, *_overrides(args))
 
 
 class _Parser(argparse.ArgumentParser):
@@ -190,6 +201,10 @@ def build_parser() -> argparse.ArgumentParser:
         "override a param (local_costmap.local_costmap.inflation_layer.inflation_radius=0.4) "
         "or a mission key (mission.seed=3); repeatable"
     )
+    package_help = (
+        "a ROS package's folder, for $(find NAME) and package:// in the robot's "
+        "description (before the world's package_paths); repeatable"
+    )
     run = sub.add_parser("run", help="run a mission; exit 0 succeeded, 1 failed, 2 user error")
     run.add_argument("mission", help="the mission .yaml")
     run.add_argument(
@@ -203,6 +218,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--gif", action="store_true", help="also write run.gif, the run animated (viz extra)"
     )
+    run.add_argument("--package", action="append", metavar="NAME=DIR", help=package_help)
     run.set_defaults(func=_run)
 
     batch = sub.add_parser(
@@ -244,6 +260,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     frames_cmd.add_argument("mission", help="the mission .yaml")
     frames_cmd.add_argument("--set", action="append", metavar="KEY=VALUE", help=set_help)
+    frames_cmd.add_argument("--package", action="append", metavar="NAME=DIR", help=package_help)
     frames_cmd.set_defaults(func=_frames_of_mission)
 
     params = _group(sub, "params", "Nav2 params files")

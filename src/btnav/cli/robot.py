@@ -30,6 +30,16 @@ def parse_assignments(values: Iterable[str], option: str, what: str) -> dict[str
     return out
 
 
+def package_option(values: Iterable[str]) -> PackagePaths:
+    """`--package NAME=DIR` options as package paths, each folder checked."""
+    paths = PackagePaths.from_mapping(parse_assignments(values, "--package", "NAME=DIR"))
+    try:
+        paths.check()
+    except BtnavError as err:
+        raise err.located(file="--package") from None
+    return paths
+
+
 def _num(v: float | None, unit: str = "") -> str:
     return "-" if v is None else f"{v:g}{unit}"
 
@@ -151,11 +161,7 @@ def robot_main(
 ) -> int:
     """Read `file` and print what btnav takes from it (as JSON with `as_json`)."""
     out = out or sys.stdout
-    paths = PackagePaths.from_mapping(parse_assignments(packages, "--package", "NAME=DIR"))
-    try:
-        paths.check()
-    except BtnavError as err:
-        raise err.located(file="--package") from None
+    paths = package_option(packages)
     args = parse_assignments(xacro_args, "--arg", "NAME=VALUE")
     desc = load_description(file, paths, args, ModelPaths.from_list(list(model_paths)))
     if as_json:

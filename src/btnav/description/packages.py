@@ -7,12 +7,18 @@ ships), the package the description itself sits in (a `package.xml` with that na
 a folder above it, as in a ROS workspace checkout), then `AMENT_PREFIX_PATH`
 (`<prefix>/share/<pkg>`) and `ROS_PACKAGE_PATH` when they are set. xacrodoc's package
 finder does the lookups (it needs no ROS install); `install` sets it up for one load.
+
+`--package` on `btnav run` and `btnav frames` reaches descriptions read deep inside a
+mission's validation through `command_line_packages`, as ROS_PACKAGE_PATH would: the
+command line wins over a world's `package_paths`.
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,6 +29,20 @@ from .errors import DescriptionError
 BTNAV_ROBOTS = "btnav_robots"
 
 _PKG = Path(__file__).resolve().parents[1]
+
+
+#: The packages `--package NAME=DIR` gave for the command being run.
+_COMMAND_LINE: ContextVar[Mapping[str, Path]] = ContextVar("btnav_command_line_packages")
+
+
+@contextmanager
+def command_line_packages(paths: PackagePaths) -> Iterator[None]:
+    """Every description loaded inside finds `paths`' packages first."""
+    token = _COMMAND_LINE.set(dict(paths.given))
+    try:
+        yield
+    finally:
+        _COMMAND_LINE.reset(token)
 
 
 def robots_dir() -> Path:
@@ -58,7 +78,7 @@ class PackagePaths:
 
     def known(self) -> dict[str, Path]:
         """The packages found without searching: the given ones and btnav_robots."""
-        return {BTNAV_ROBOTS: robots_dir(), **self.given}
+        return {BTNAV_ROBOTS: robots_dir(), **self.given, **_COMMAND_LINE.get({})}
 
     def check(self) -> None:
         """Every given package path is a folder (a typo there is the user's to fix)."""

@@ -255,7 +255,6 @@ def local_plan(server: Any, pose: Pose2D) -> np.ndarray:
     """
     controller = server.controller
     if callable(getattr(controller, "optimal_trajectory", None)):  # MPPI
-        odom = server.runtime.latest_odom.twist
         return np.asarray(controller.optimal_trajectory(pose))[:, :2]
     trajectories = getattr(controller, "last_trajectories", None)  # DWB
     scores = getattr(controller, "last_scores", None)
