@@ -287,3 +287,44 @@ def test_a_wrapper_model_s_robot_base_is_btnav_s_base(tmp_path):
     edges = {child: (parent, pose) for parent, child, pose in d.tf_edges()}
     assert "tb::base_link" not in edges
     assert edges["tb::laser"] == ("base_link", pytest.approx((0.1, 0.0, 0.0)))
+
+
+def test_a_placement_frame_puts_that_frame_at_the_include_s_pose(tmp_path):
+    """SDF 1.8: `<placement_frame>` names the included model's frame its `<pose>` places;
+    the model's own frame follows (its link 0.2 m ahead of and turned from the origin)."""
+    write_model(
+        tmp_path,
+        "sensor",
+        '    <link name="link"><pose>0.2 0 0 0 0 1.5707963267948966</pose>'
+        f"{LIDAR.format(name='s', pose='')}\n    </link>\n",
+    )
+    main = write_model(
+        tmp_path,
+        "bot",
+        box_link("base_link")
+        + "    <include><uri>model://sensor</uri><placement_frame>link</placement_frame>\n"
+        + "      <pose>0.1 0.05 0.3 0 0 0</pose></include>\n"
+        + '    <joint name="j" type="fixed"><parent>base_link</parent><child>sensor::link</child></joint>\n',
+    )
+    d = load_description(main)
+    (lidar,) = d.lidars
+    assert lidar.pose == pytest.approx((0.1, 0.05, 0.0)) and lidar.z == pytest.approx(0.3)
+    origin = d.frame("sensor::link")
+    assert (origin.x, origin.y) == pytest.approx((0.1, 0.05))
+
+
+def test_a_placement_frame_that_names_nothing_is_located(tmp_path):
+    write_model(tmp_path, "sensor", '    <link name="link"/>\n')
+    main = write_model(
+        tmp_path,
+        "bot",
+        box_link("base_link")
+        + "    <include><uri>model://sensor</uri><placement_frame>lnk</placement_frame>\n"
+        + "      <pose>0.1 0 0 0 0 0</pose></include>\n"
+        + '    <joint name="j" type="fixed"><parent>base_link</parent><child>sensor::link</child></joint>\n',
+    )
+    with pytest.raises(BtnavError) as info:
+        load_description(main)
+    err = info.value
+    assert err.file == str(main) and err.line == line_of(main, "<placement_frame>")
+    assert "placement_frame 'sensor::lnk'" in err.message and err.suggestion == "sensor::link"

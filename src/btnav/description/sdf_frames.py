@@ -4,7 +4,9 @@ A nested `<model>` is a scope: its names are `NAME::link` (a `merge="true"` incl
 stay in the enclosing scope), its model frame is `NAME` in the enclosing one. Poses are
 relative to the element's model frame unless `relative_to` names another frame of the
 same scope (or a nested one's, `NAME::link`); a joint's default is its child, a
-`<frame>`'s the frame it is `attached_to`. `Frames` resolves each to the top model's
+`<frame>`'s the frame it is `attached_to`. A nested model with a placement frame (an
+include's `<placement_frame>`, SDF 1.8) has its `<pose>` place that frame, not its own.
+`Frames` resolves each to the top model's
 frame, with loops and unknown names as located errors; a name that points into a
 remote (Fuel) include is that include's error (see `sdf_include`).
 """
@@ -24,6 +26,8 @@ from .transforms import IDENTITY, Transform, compose, inverse
 from .xml_values import child_text, error, required
 
 MODEL_FRAME = "__model__"
+#: SDF 1.8's own spelling on a <model>: the frame its <pose> places.
+PLACED = "placement_frame"
 SCOPE = "::"
 
 
@@ -84,12 +88,20 @@ class Frames:
         self.defs: dict[str, tuple[ET.Element | None, str, ET.Element]] = {}
         #: a nested model's name in its parent -> the key of its model frame
         self.alias: dict[str, str] = {}
+        #: a nested model's frame key -> (the key of the frame its <pose> places, the
+        #: element naming it): SDF 1.8's placement_frame
+        self.placement: dict[str, tuple[str, ET.Element]] = {}
         self.attached: dict[str, str] = {}  # a <frame>'s key -> what it is attached to
         for s in scopes:
             if s.parent is not None:
                 self._define(s.frame, s.element.find("pose"), s.parent, s.parent.frame, s.element)
                 if s.element.get(MERGE_ATTR) != "true":
                     self.alias[s.parent.prefix + s.name] = s.frame
+                placed = s.element.find("placement_frame")
+                name = (placed.text or "") if placed is not None else s.element.get(PLACED)
+                if name and name.strip():
+                    named_by = placed if placed is not None else s.element
+                    self.placement[s.frame] = (s.key(name.strip()), named_by)
             for el in s.element:
                 name = el.get("name")
                 if name is None or el.tag not in ("link", "frame", "joint"):
@@ -149,8 +161,28 @@ class Frames:
         pose, rel, el = self.defs[key]
         asker = pose if pose is not None and pose.get("relative_to") else el
         base = self.resolve(rel, asker, (*chain, key)) if rel != key else IDENTITY
-        self.done[key] = compose(base, sdf_pose(pose, self.sources))
-        return self.done[key]
+        placed = compose(base, sdf_pose(pose, self.sources))
+        if key in self.placement:  # the pose is the placement frame's: back to the model's
+            frame, named_by = self.placement[key]
+            placed = compose(placed, inverse(self._in_model(frame, key, named_by)))
+        self.done[key] = placed
+        return placed
+
+    def _in_model(self, key: str, model: str, asked_by: ET.Element) -> Transform:
+        """Frame `key`'s pose in the model frame `model` it belongs to (a placement frame:
+        its chain of relative_to stays inside that model)."""
+        pose_of, seen = IDENTITY, [key]
+        while key != model:
+            key = self.alias.get(key, key)
+            if key not in self.defs:
+                raise self.missing(key, asked_by, "placement_frame")
+            pose, rel, _ = self.defs[key]
+            pose_of = compose(sdf_pose(pose, self.sources), pose_of)
+            if rel in seen:
+                break  # a loop: resolve() reports it where it starts
+            key = rel
+            seen.append(key)
+        return pose_of
 
     def placed(self, pose: ET.Element | None, link: str, el: ET.Element, scope: Scope) -> Transform:
         """A collision's, visual's or sensor's pose, in its link's frame."""

@@ -18,13 +18,11 @@ links) into one error at the include's line, saying how to get the model offline
 from __future__ import annotations
 
 import copy
-import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-from ..core.errors import BtnavWarning
 from .errors import DescriptionError
 from .model_paths import SCHEME, ModelPaths, model_file
 from .source_lines import SourceFiles, parse_with_lines, read_source, to_element_tree
@@ -32,6 +30,7 @@ from .xml_values import child_text, error, tag
 
 #: Set on a nested `<model>` that came from `<include merge="true">`.
 MERGE_ATTR = "btnav_merge"
+
 #: Included files holding only one of these are scenery, not robot parts.
 NOT_ROBOT_PARTS = ("light", "actor")
 
@@ -155,19 +154,15 @@ def _included(
         if any(top.find(k) is not None for k in NOT_ROBOT_PARTS):
             return None  # model://sun: a light, nothing of a robot
         raise error(f"cannot include '{uri}': {path} holds no <model>", include, sources)
-    if include.find("placement_frame") is not None:
-        file, line = sources.place(include.find("placement_frame"))
-        warnings.warn(
-            BtnavWarning(
-                "<placement_frame> is not read by btnav: the include's <pose> places the "
-                "included model's own frame",
-                file=file,
-                line=line,
-            ),
-            stacklevel=4,
-        )
     model = copy.deepcopy(inner)
     _override(model, include)
+    placement = include.find("placement_frame")
+    if placement is not None:
+        # the include's <pose> places this frame of the model (SDF 1.8), not its origin;
+        # kept as the model's child, where its line still points at the include
+        for old in model.findall("placement_frame"):
+            model.remove(old)
+        model.append(copy.deepcopy(placement))
     _expand(model, sources, models, (*stack, path), remote)
     return model
 
