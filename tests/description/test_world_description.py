@@ -127,23 +127,23 @@ def test_a_missing_description_is_the_world_s_error_at_its_line(tmp_path):
     assert "robot description not found" in err.message
 
 
-def test_package_paths_in_the_world_resolve_from_its_folder(tmp_path):
-    (tmp_path / "pkgs" / "my_robot").mkdir(parents=True)
-    (tmp_path / "pkgs" / "my_robot" / "body.xacro").write_text(
+def _robot_in_a_package(folder: Path) -> dict[str, Any]:
+    """A xacro that includes `$(find my_robot)/body.xacro`, the package in folder/pkgs."""
+    (folder / "pkgs" / "my_robot").mkdir(parents=True)
+    (folder / "pkgs" / "my_robot" / "body.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base_link">'
         '<collision><geometry><cylinder radius="0.17" length="0.1"/></geometry></collision>'
         "</link></robot>"
     )
-    (tmp_path / "robot.urdf.xacro").write_text(
+    (folder / "robot.urdf.xacro").write_text(
         '<robot name="mine" xmlns:xacro="http://www.ros.org/wiki/xacro">'
         '<xacro:include filename="$(find my_robot)/body.xacro"/></robot>'
     )
-    robot = {
-        "description": "../robot.urdf.xacro",
-        "package_paths": {"my_robot": "../pkgs/my_robot"},
-        "pose": [1, 1, 0],
-        "sensors": [],
-    }
+    return {"description": "../robot.urdf.xacro", "pose": [1, 1, 0], "sensors": []}
+
+
+def test_package_paths_in_the_world_resolve_from_its_folder(tmp_path):
+    robot = {**_robot_in_a_package(tmp_path), "package_paths": {"my_robot": "../pkgs/my_robot"}}
     assert World.from_file(office_world(tmp_path, robot)).spec.robot.footprint.radius == 0.17
 
 
@@ -226,21 +226,6 @@ def test_a_description_without_a_lidar_says_the_robot_has_none(tmp_path):
     assert world.sensor_specs() == []
 
 
-def _robot_in_a_package(folder: Path) -> dict[str, Any]:
-    """A xacro that includes `$(find my_robot)/body.xacro`, the package outside the world."""
-    (folder / "elsewhere" / "my_robot").mkdir(parents=True)
-    (folder / "elsewhere" / "my_robot" / "body.xacro").write_text(
-        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base_link">'
-        '<collision><geometry><cylinder radius="0.17" length="0.1"/></geometry></collision>'
-        "</link></robot>"
-    )
-    (folder / "robot.urdf.xacro").write_text(
-        '<robot name="mine" xmlns:xacro="http://www.ros.org/wiki/xacro">'
-        '<xacro:include filename="$(find my_robot)/body.xacro"/></robot>'
-    )
-    return {"description": "../robot.urdf.xacro", "pose": [1, 1, 0], "sensors": []}
-
-
 def test_package_on_the_command_line_resolves_a_world_robots_find(tmp_path, capsys):
     world = office_world(tmp_path, _robot_in_a_package(tmp_path))
     mission = write_mission(
@@ -249,7 +234,7 @@ def test_package_on_the_command_line_resolves_a_world_robots_find(tmp_path, caps
     # without it: one error that names the option to give
     assert main(["frames", str(mission)]) == 2
     assert "--package my_robot=DIR" in capsys.readouterr().err
-    package = f"my_robot={tmp_path / 'elsewhere' / 'my_robot'}"
+    package = f"my_robot={tmp_path / 'pkgs' / 'my_robot'}"
     assert main(["frames", str(mission), "--package", package]) == 0
     assert "base_link" in capsys.readouterr().out
     assert main(["run", str(mission), "--package", package, "-o", str(tmp_path / "out")]) in (0, 1)
