@@ -38,7 +38,8 @@ class DubinsPath:
 
     @property
     def length(self) -> float:
-        return float(sum(self.lengths))
+        a, b, c = self.lengths  # left to right (Python 3.12's sum() compensates: other bits)
+        return float(a + b + c)
 
     def sample(self, start: tuple[float, float, float], step: float) -> np.ndarray:
         """Poses (x, y, yaw) every `step` metres along the path, start and end included."""

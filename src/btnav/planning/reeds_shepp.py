@@ -228,7 +228,10 @@ class ReedsSheppPath:
 
     @property
     def length(self) -> float:
-        return float(sum(abs(seg) for seg in self.lengths))
+        total = 0.0  # left to right (Python 3.12's sum() compensates: other bits)
+        for seg in self.lengths:
+            total += abs(seg)
+        return float(total)
 
     def sample(self, start: tuple[float, float, float], step: float) -> np.ndarray:
         """Poses (x, y, yaw) every `step` metres along the path, start and end included; yaw

@@ -20,7 +20,9 @@ heading bin), as in Nav2.
   a node to the goal, sampled every sqrt(2) cells, kept when collision-free, no longer
   than `analytic_expansion_max_length` and not entering cells above
   `analytic_expansion_max_cost` except on the final approach; refined back along the
-  node's ancestors as refineAnalyticPath does (every fifth, eight times at most).
+  node's ancestors as refineAnalyticPath does (every fifth, eight times at most). The
+  curves are solved and sampled compiled (reeds_shepp_kernel, dubins_kernel, the same
+  bits as reeds_shepp.py and dubins.py, which BTNAV_SMAC=python uses).
 - `GridCollisionChecker` decides per cell once per plan what Nav2's checker decides per
   pose: a radius footprint collides on inscribed and lethal cells; a polygon on lethal
   cells, and from the circumscribed cost up its oriented outline is laid on the grid:
@@ -37,6 +39,7 @@ from __future__ import annotations
 import heapq
 import itertools
 import math
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
@@ -53,7 +56,7 @@ from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, 
 from ..costmap.costmap_2d import Costmap2D
 from ..costmap.footprint_cost import footprint_costs
 from ..params.schema import ParamsModel, ignored
-from . import dubins, reeds_shepp
+from . import dubins, dubins_kernel, reeds_shepp, reeds_shepp_kernel
 from .exceptions import NoValidPathCouldBeFound, PlannerCancelled, PlannerTimedOut
 from .global_planner import GlobalPlanner
 from .simple_smoother import SimpleSmoother
@@ -70,6 +73,11 @@ Node = tuple[float, float, int, float, int, int, int]
 Child = tuple[int, int, float, float, int, float, int]
 #: A pose in cells: x, y, yaw.
 CellPose = tuple[float, float, float]
+#: How Hybrid-A* searches and the curves are solved: numba kernels (hybrid_kernel,
+#: reeds_shepp_kernel, dubins_kernel) or the Python reference (environment variable
+#: BTNAV_SMAC=python); the same plans, bit for bit, either way.
+SmacMethod = Literal["kernel", "python"]
+DEFAULT_METHOD: SmacMethod = "python" if os.environ.get("BTNAV_SMAC") == "python" else "kernel"
 
 
 class SmacSmootherParams(ParamsModel):
@@ -204,6 +212,21 @@ class GridCollisionChecker:
         outline: bytes = self.outline  # type: ignore[assignment]
         return bool(outline[c]) and self.footprint_hit(c * self._bins + self.bin_of(yaw))
 
+    @property
+    def bins(self) -> int:
+        """The heading bins outlines are checked on (1 without the search's bins)."""
+        return self._bins
+
+    @property
+    def bad(self) -> bytes | None:
+        """Per cell, whether it puts an outline in collision (None unless outlines are
+        checked per (cell, bin))."""
+        return self._bad if self._binned else None
+
+    def rim(self, b: int) -> tuple[int, int, int, int, tuple[int, ...]]:
+        """Bin b's outline around a cell's centre (see `_rim`), made once."""
+        return self._rims[b] or self._rim(b)
+
     def bin_of(self, yaw: float) -> int:
         """The heading bin nearest `yaw` (radians, any turn)."""
         return round(yaw / self._bin_size) % self._bins
@@ -216,7 +239,7 @@ class GridCollisionChecker:
         if known is not None:
             return known
         cell, b = divmod(key, self._bins)
-        rim = self._rims[b] or self._rim(b)
+        rim = self.rim(b)
         my, mx = divmod(cell, self.nx)
         lo_x, hi_x, lo_y, hi_y, offsets = rim
         if mx + lo_x < 0 or my + lo_y < 0 or mx + hi_x >= self.nx or my + hi_y >= self.ny:
@@ -337,6 +360,8 @@ class HeuristicCache:
         self._key: tuple[Any, ...] | None = None
         self._costs: bytes = b""
         self._values: list[float] = []
+        #: The last values as an array (what a compiled search reads).
+        self.array: NDArray[np.float64] = np.zeros(0)
 
     def get(
         self,
@@ -350,7 +375,8 @@ class HeuristicCache:
         costs = costmap.costs.tobytes()
         if key != self._key or (costs != self._costs and not keep_stale):
             h = obstacle_heuristic(costmap.costs, goal_cell, cost_penalty, downsample)
-            self._key, self._costs, self._values = key, costs, h.ravel().tolist()
+            self.array = np.ascontiguousarray(h.ravel(), np.float64)
+            self._key, self._costs, self._values = key, costs, self.array.tolist()
         return self._values
 
 
@@ -412,8 +438,10 @@ class AnalyticExpansion:
         radius: float,
         checker: GridCollisionChecker,
         params: SmacParams,
+        method: SmacMethod = DEFAULT_METHOD,
     ) -> None:
         self.model = model
+        self.method = method
         self.radius = radius
         self.checker = checker
         res = checker.costmap.resolution
@@ -425,6 +453,9 @@ class AnalyticExpansion:
         """The shortest curve of the model between two poses in cells."""
         if self.model == "OMNI":
             return straight_line(pose, goal)
+        if self.method == "kernel":
+            kernels = reeds_shepp_kernel if self.model == "REEDS_SHEPP" else dubins_kernel
+            return kernels.shortest_path(pose, goal, self.radius)  # type: ignore[no-any-return]
         curves = reeds_shepp if self.model == "REEDS_SHEPP" else dubins
         return curves.shortest_path(pose, goal, self.radius)  # type: ignore[no-any-return]
 
@@ -462,7 +493,7 @@ class AnalyticExpansion:
         return list(zip(sx, sy, syaw, strict=True)), cusps
 
     def from_node(
-        self, nodes: list[Node], i: int, yaws: Sequence[float], goal: CellPose
+        self, nodes: Sequence[Node], i: int, yaws: Sequence[float], goal: CellPose
     ) -> tuple[int, list[CellPose]] | None:
         """The node to leave the search from and its curve to the goal, refined as Nav2's
         refineAnalyticPath does: the curve is tried from every fifth ancestor back (eight
@@ -499,7 +530,7 @@ class SearchResult:
     """Where a search ended: a node (the goal's, or the best within tolerance) and, after
     an analytic expansion, the curve's poses from it to the goal."""
 
-    nodes: list[Node]
+    nodes: Sequence[Node]
     end: int
     tail: list[CellPose]
     expansions: int
@@ -558,14 +589,15 @@ class SmacSearch:
         max_approach = (
             p.max_on_approach_iterations if p.max_on_approach_iterations > 0 else math.inf
         )
-        hypot, heappush, heappop = math.hypot, heapq.heappush, heapq.heappop
+        sqrt, heappush, heappop = math.sqrt, heapq.heappush, heapq.heappop
 
         sx, sy, sb = start
         start_key = self.key(sx, sy, sb)
         nodes: list[Node] = [(sx, sy, sb, 0.0, -1, -1, start_key)]
         best_g = {start_key: 0.0}
         closed: set[int] = set()
-        h0 = max(hg[math.floor(sy) * nx + math.floor(sx)], hypot(sx - gx, sy - gy))
+        dx, dy = sx - gx, sy - gy
+        h0 = max(hg[math.floor(sy) * nx + math.floor(sx)], sqrt(dx * dx + dy * dy))
         # Equal totals go to the node nearer the goal, so plateaus are crossed, not flooded.
         queue: list[tuple[float, float, int]] = [(h0, h0, 0)]
         countdown, closest = 0, math.inf  # the first node tries the goal at once
@@ -622,7 +654,8 @@ class SmacSearch:
                     best_g[ckey] = g_child
                     nodes.append((cx, cy, cb, g_child, i, prim, ckey))
                     h = hg[cell]
-                    d = hypot(cx - gx, cy - gy)
+                    dx, dy = cx - gx, cy - gy
+                    d = sqrt(dx * dx + dy * dy)
                     if d > h:
                         h = d
                     heappush(queue, (g_child + h, h, len(nodes) - 1))

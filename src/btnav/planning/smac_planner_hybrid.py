@@ -19,16 +19,19 @@ expansion is not re-tried with wider turning radii (Nav2's scoring of up to 4x t
 minimum); the search stops after `max_iterations` expansions, never after a wall-clock
 `max_planning_time`, so a plan does not depend on the machine's speed.
 
-Speed: a step's cost factor per cell, what collides per cell and the turn penalties per
-(parent turn, primitive) are tables made once a plan, so an expansion is list lookups;
-a polygon footprint is checked once per (cell, heading bin), at the cell's centre as
-Nav2's GridCollisionChecker does, and remembered; an analytic expansion is not computed
-when the straight line to the goal is already longer than
-`analytic_expansion_max_length` (no curve is shorter). What is left is the interpreter's
-cost of an expansion and of Reeds-Shepp (bench/planner.py, part 2): Nav2's defaults on
-the small office plan in 35-90 ms (1 900-2 700 expansions) and 95-165 ms (18 000), the
-racecar's requests in 15-70 ms, but its two-doorway request floods 25 000 expansions
-(~0.7 s; docs/decisions/0003).
+Speed: the search runs compiled (hybrid_kernel: the loop and the expansion; Reeds-Shepp
+and Dubins solved and sampled in reeds_shepp_kernel and dubins_kernel), returning to
+Python only for an analytic expansion's checks, a node near the goal and a cancel poll,
+with the Python search's plans bit for bit (`BTNAV_SMAC=python` runs that reference).
+A step's cost factor per cell and the turn penalties per (parent turn, primitive) are
+tables made once a plan; a polygon footprint is checked once per (cell, heading bin), at
+the cell's centre as Nav2's GridCollisionChecker does, and remembered; an analytic
+expansion is not computed when the straight line to the goal is already longer than
+`analytic_expansion_max_length` (no curve is shorter). bench/planner.py, part 2: Nav2's
+defaults on the small office plan in 13-32 ms (1 900-18 000 expansions), the racecar's
+requests in 11-46 ms, its two-doorway request (25 000 expansions) in 46 ms where the
+Python search takes ~420 ms; the first plan in a new install compiles for ~4 s, then
+loads from numba's cache in ~0.2 s (docs/decisions/0005).
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ from ..core.messages import Path
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ignored
 from ..plugins import register
+from . import hybrid_kernel
 from .exceptions import (
     GoalOccupied,
     GoalOutsideMapBounds,
@@ -54,12 +58,14 @@ from .exceptions import (
 )
 from .global_planner import GlobalPlanner
 from .smac_common import (
+    DEFAULT_METHOD,
     AnalyticExpansion,
     CellPose,
     Child,
     GridCollisionChecker,
     HeuristicCache,
     Node,
+    SmacMethod,
     SmacParams,
     SmacSearch,
     SmacSmootherParams,
@@ -154,6 +160,8 @@ class SmacPlannerHybrid(GlobalPlanner):
         self._heuristic = HeuristicCache()
         #: Nodes the last search expanded (for tests and benchmarks).
         self.expansions = 0
+        #: The compiled search or the Python reference (the same plans; BTNAV_SMAC=python).
+        self.method: SmacMethod = DEFAULT_METHOD
 
     def _table(self, resolution: float) -> Primitives:
         p = self.params
@@ -202,19 +210,24 @@ class SmacPlannerHybrid(GlobalPlanner):
             p.downsample_obstacle_heuristic, p.cache_obstacle_heuristic,
         )  # fmt: skip
         model = p.motion_model_for_search
-        analytic = AnalyticExpansion(model, p.minimum_turning_radius / res, checker, p)
+        radius = p.minimum_turning_radius / res
+        analytic = AnalyticExpansion(model, radius, checker, p, self.method)
         search = SmacSearch(p, checker, heuristic, analytic, table.bins, table.yaws)
         bins, bin_size = table.bins, table.bin_size
+        start_cell = (sx, sy, round(start.yaw / bin_size) % bins)
+        goal_cell = (gx, gy, goal.yaw)
+        goal_bin = round(goal.yaw / bin_size) % bins
+        norms = traversal_norms(costmap, p.use_quadratic_cost_penalty)
         try:
-            found = search.run(
-                (sx, sy, round(start.yaw / bin_size) % bins),
-                (gx, gy, goal.yaw),
-                round(goal.yaw / bin_size) % bins,
-                self._expansion(
-                    table, checker, traversal_norms(costmap, p.use_quadratic_cost_penalty)
-                ),
-                cancel_checker,
-            )
+            if self.method == "kernel":
+                tables = self._kernel_tables(
+                    table, checker, norms, self._heuristic.array,
+                    search.key(gx, gy, goal_bin), goal_cell, cancel_checker is not None,
+                )  # fmt: skip
+                found = hybrid_kernel.run(search, tables, start_cell, goal_cell, cancel_checker)
+            else:
+                expand = self._expansion(table, checker, norms)
+                found = search.run(start_cell, goal_cell, goal_bin, expand, cancel_checker)
         finally:
             self.expansions = search.expansions
         nodes = found.nodes
@@ -228,36 +241,44 @@ class SmacPlannerHybrid(GlobalPlanner):
 
     # -- the search ------------------------------------------------------------------------
 
+    def _step_factors(
+        self, table: Primitives, norms: np.ndarray
+    ) -> tuple[np.ndarray, list[list[float]], list[float]]:
+        """Nav2's NodeHybrid::getTraversalCost as tables for this plan. A step's cost is
+        length * (reward + cost_penalty * norm) * turn * reverse, in that order: the first
+        factor per cell, the turn's per (parent's turn + 1, primitive) (row 0: the start,
+        no turn penalty) and the reverse one per primitive (1.0: none)."""
+        p = self.params
+        reward = 1.0 - p.retrospective_penalty
+        per_cell = reward + p.cost_penalty * norms
+        directions = table.directions
+        reverse = [p.reverse_penalty if d >= REVERSE else 1.0 for d in directions]
+        turns = [[1.0] * len(directions)] + [
+            [
+                1.0 if d in (FORWARD, REVERSE)
+                else p.non_straight_penalty + (0.0 if d == parent else p.change_penalty)
+                for d in directions
+            ]
+            for parent in range(6)
+        ]  # fmt: skip
+        return per_cell, turns, reverse
+
     def _expansion(
         self, table: Primitives, checker: GridCollisionChecker, norms: np.ndarray
     ) -> Callable[[Node, set[int]], list[Child]]:
         """Nav2's NodeHybrid::getNeighbors and getTraversalCost, as tables for this plan:
-        the children of a node with their step costs."""
-        p = self.params
+        the children of a node with their step costs (the Python reference)."""
         nx, ny, bins = checker.nx, checker.ny, table.bins
         blocked, outline = checker.blocked, checker.outline
-        # A step's cost is length * (reward + cost_penalty * norm) * turn * reverse, in
-        # that order: the first factor per cell, the others per primitive (1.0: none).
-        reward = 1.0 - p.retrospective_penalty
-        per_cell = (reward + p.cost_penalty * norms).tolist()
+        per_cell_array, turns, reverse = self._step_factors(table, norms)
+        per_cell = per_cell_array.tolist()
         directions = table.directions
-        reverse = [p.reverse_penalty if d >= REVERSE else 1.0 for d in directions]
-
-        def turn_factors(parent: int) -> list[float]:
-            if parent < 0:  # the start: no turn penalty
-                return [1.0] * len(directions)
-            return [
-                1.0 if d in (FORWARD, REVERSE)
-                else p.non_straight_penalty + (0.0 if d == parent else p.change_penalty)
-                for d in directions
-            ]  # fmt: skip
-
         # Per (parent's turn + 1, heading bin), each primitive's step, child bin, length,
         # turn and reverse factors and direction, zipped for one pass.
         rows = [
             [
                 list(zip(table.dx[b], table.dy[b], table.child_bins[b], table.lengths,
-                         turn_factors(parent), reverse, directions, strict=True))
+                         turns[parent + 1], reverse, directions, strict=True))
                 for b in range(bins)
             ]
             for parent in range(-1, 6)
@@ -286,3 +307,67 @@ class SmacPlannerHybrid(GlobalPlanner):
             return out
 
         return expand
+
+    def _kernel_tables(
+        self,
+        table: Primitives,
+        checker: GridCollisionChecker,
+        norms: np.ndarray,
+        heuristic: np.ndarray,
+        goal_key: int,
+        goal: tuple[float, float, float],
+        poll: bool,
+    ) -> hybrid_kernel.HybridTables:
+        """The compiled search's inputs: the same tables `_expansion` zips, as arrays."""
+        p = self.params
+        per_cell, turns, reverse = self._step_factors(table, norms)
+        n_cells = checker.nx * checker.ny
+        polygon = checker.bad is not None
+
+        def cells(data: bytes | None) -> np.ndarray:
+            if data is None:
+                return np.zeros(n_cells, np.uint8)
+            return np.frombuffer(data, np.uint8).copy()
+
+        if polygon:
+            rim_bounds, rim_start, rim_offsets = hybrid_kernel.rims(checker)
+            bad = cells(checker.bad)
+        else:
+            rim_bounds = np.zeros((table.bins, 4), np.int64)
+            rim_start, rim_offsets = np.zeros(table.bins + 1, np.int64), np.zeros(0, np.int64)
+            bad = cells(None)
+        ratio = p.analytic_expansion_ratio
+        no_limit = hybrid_kernel.NO_LIMIT
+        return hybrid_kernel.HybridTables(
+            dx=np.array(table.dx, np.float64),
+            dy=np.array(table.dy, np.float64),
+            child_bin=np.array(table.child_bins, np.int64),
+            length=np.array(table.lengths, np.float64),
+            turn_factor=np.array(turns, np.float64),
+            reverse_factor=np.array(reverse, np.float64),
+            direction=np.array(table.directions, np.int64),
+            per_cell=np.ascontiguousarray(per_cell, np.float64),
+            heuristic=heuristic,
+            blocked=cells(checker.blocked),
+            outline=cells(checker.outline),
+            bad=bad,
+            rim_bounds=rim_bounds,
+            rim_start=rim_start,
+            rim_offsets=rim_offsets,
+            nx=checker.nx,
+            ny=checker.ny,
+            bins=table.bins,
+            polygon=polygon,
+            goal_x=float(goal[0]),
+            goal_y=float(goal[1]),
+            goal_key=goal_key,
+            tolerance=p.tolerance / checker.costmap.resolution,
+            ratio=float(ratio),
+            min_countdown=math.ceil(ratio),
+            max_iterations=p.max_iterations if p.max_iterations > 0 else no_limit,
+            max_approach=(
+                p.max_on_approach_iterations if p.max_on_approach_iterations > 0 else no_limit
+            ),
+            poll_interval=p.terminal_checking_interval,
+            poll=poll,
+        )
