@@ -120,6 +120,7 @@ def mppi_stage_profile(controller, cycles: int) -> dict[str, float]:
     opt.noise.sample = timed("noise sampling", opt.noise.sample)
     opt.model.predict = timed("motion model (acceleration loop)", opt.model.predict)
     opt._rollouts = timed("rollout integration", opt._rollouts)
+    opt._rollouts_compiled = timed("motion model + rollouts (compiled)", opt._rollouts_compiled)
     opt._update_control_sequence = timed("softmax + control update", opt._update_control_sequence)
     opt._trajectory_valid = timed("optimal trajectory validator", opt._trajectory_valid)
     for critic in opt.critics:

@@ -3,7 +3,7 @@
 A compiled loop (Hybrid-A*'s search, Reeds-Shepp's words, later MPPI's rollouts) cannot
 call core.fmath: its scalar path is Python (~1.5 us a call) and its array path numpy.
 These are `fmath._sincos_py`, `_atan2_py`, `_exp_py` and `_log_py` written again for
-numba, step for step: every + - * / in the same order, the same constants (read from
+numba, step for step (and `sincos_f32`, the float32 path of `fmath._sincos_vec`): every + - * / in the same order, the same constants (read from
 fmath, not repeated), bits reinterpreted where fmath reinterprets them. So each returns
 the bits fmath returns on a Python float (tests/core/test_fmath_kernels.py compares them
 on random values over every range and on zeros, infinities, NaN, subnormals and
@@ -31,13 +31,14 @@ from numba.extending import intrinsic
 
 from . import fmath as _f
 
-__all__ = ["arctan2", "exp", "log", "remainder", "sincos", "sincos_steps"]
+__all__ = ["arctan2", "exp", "log", "remainder", "sincos", "sincos_f32", "sincos_steps"]
 
 JIT = {"cache": True, "nogil": True, "error_model": "numpy", "boundscheck": False}
 
 # fmath's constants, bound here as globals numba freezes into the machine code
 _MAGIC, _MAGIC_BITS = _f._MAGIC, _f._MAGIC_BITS
 _TWO_OVER_PI, _PIO2_1, _PIO2_2, _PIO2_2T = _f._TWO_OVER_PI, _f._PIO2_1, _f._PIO2_2, _f._PIO2_2T
+_PIO2_2F = _f._PIO2_2F
 _S1, _S2, _S3, _S4, _S5, _S6 = _f._S1, _f._S2, _f._S3, _f._S4, _f._S5, _f._S6
 _C1, _C2, _C3, _C4, _C5, _C6 = _f._C1, _f._C2, _f._C3, _f._C4, _f._C5, _f._C6
 _INV_LN2, _LN2_HI, _LN2_LO = _f._INV_LN2, _f._LN2_HI, _f._LN2_LO
@@ -132,6 +133,46 @@ def sincos(x: float) -> tuple[float, float]:
     if x == 0.0:
         return x, 1.0
     return sincos_steps(x)
+
+
+@nb.njit(**JIT)
+def sincos_f32(x: np.float32) -> tuple[np.float32, np.float32]:
+    """`fmath.sincos` on float32 (`_sincos_vec` with f32=True): the float32 heading in
+    float64 (exact), reduced without the tail, the kernels without their last term,
+    each result rounded once to float32, then the quadrant's swap and signs (exact).
+    MPPI's rollouts take their headings' sines and cosines from it."""
+    xd = np.float64(x)
+    k = xd * _TWO_OVER_PI
+    k += _MAGIC
+    q = _bits(k) & 3  # the low word's low bits, as fmath reads them
+    k -= _MAGIC
+    hi = k * -_PIO2_1
+    hi += xd
+    k *= _PIO2_2F
+    hi -= k
+    z = hi * hi
+    s = z * _S5
+    s = (s + _S4) * z
+    s = (s + _S3) * z
+    s = (s + _S2) * z
+    s = (s + _S1) * z
+    s *= hi
+    s += hi
+    c = z * _C5
+    c = (c + _C4) * z
+    c = (c + _C3) * z
+    c = (c + _C2) * z
+    c = (c + _C1) * z
+    c = (c - 0.5) * z
+    c += 1.0
+    sf, cf = np.float32(s), np.float32(c)
+    if q & 1:
+        sf, cf = cf, sf
+    if q & 2:
+        sf = -sf
+    if (q + 1) & 2:
+        cf = -cf
+    return sf, cf
 
 
 @nb.njit(**JIT)

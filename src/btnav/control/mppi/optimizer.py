@@ -29,13 +29,17 @@ One cycle, all batch-wide numpy on float32:
 
 Storage is (time_steps, batch_size) C-order; critics get (batch_size, time_steps)
 views (`.T`), the shape Nav2's critics index.
+
+Steps 2 and 3 run as one compiled pass (rollout_kernel.py, the same bits) unless the
+environment says BTNAV_MPPI=numpy or the motion model has its own `predict`.
 """
 
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,9 +52,15 @@ from .critic_data import CriticData, cell_costs
 from .critic_function import CriticFunction
 from .motion_models import MotionModel
 from .noise import NoiseGenerator
+from .rollout_kernel import predict_rollouts
 from .smoothing import HISTORY, savitzky_golay
 
 F32 = NDArray[np.float32]
+RolloutMethod = Literal["kernel", "numpy"]
+
+#: How the rollouts are computed: "kernel" (one compiled pass) or "numpy" (the
+#: reference; environment variable BTNAV_MPPI=numpy). The same bits either way.
+DEFAULT_METHOD: RolloutMethod = "numpy" if os.environ.get("BTNAV_MPPI") == "numpy" else "kernel"
 
 
 def clamp_by_accel(last: float, value: float, min_delta: float, max_delta: float) -> float:
@@ -104,6 +114,9 @@ class Optimizer:
         #: The local costmap server (footprint), once the controller is configured.
         self.costmap_ros: Any = None
         self.holonomic = model.holonomic
+        #: "kernel" or "numpy" (DEFAULT_METHOD); the compiled pass only runs the base
+        #: MotionModel.predict, so a model overriding it always takes the numpy path.
+        self.rollout_method: RolloutMethod = DEFAULT_METHOD
         T, B, C = settings.time_steps, settings.batch_size, model.channels
         stds = [settings.vx_std, settings.wz_std, settings.vy_std][:C]
         self.stds = stds
@@ -219,8 +232,11 @@ class Optimizer:
         self.noise.sample(out=u)
         np.add(u, self._sequence_channels(), out=u)
         speeds = np.array([speed[0], speed[2], speed[1]][: self.model.channels], np.float32)
-        self.model.predict(u, v, speeds, write_back=s.clamp_raw_controls)
-        self._rollouts(robot, v)
+        if self.rollout_method == "kernel" and type(self.model).predict is MotionModel.predict:
+            self._rollouts_compiled(robot, speeds)
+        else:
+            self.model.predict(u, v, speeds, write_back=s.clamp_raw_controls)
+            self._rollouts(robot, v)
         c = self.model.c
         vy = v[:, 2].T if self.holonomic else self._zeros
         cvy = u[:, 2].T if self.holonomic else self._zeros
@@ -296,6 +312,25 @@ class Optimizer:
         pos[0, 1] += y0
         for i in range(1, T):
             np.add(pos[i - 1], pos[i], out=pos[i])
+
+    def _rollouts_compiled(self, robot: NDArray[np.float64], speeds: F32) -> None:
+        """`model.predict` then `_rollouts` as one compiled pass over the batch (u, v,
+        positions and yaws with the same bits; rollout_kernel.py)."""
+        up, down, symmetric = self.model._accel_steps(self.s.batch_size)
+        start = np.array([np.float32(a) for a in robot[:3]], np.float32)
+        predict_rollouts(
+            self.u,
+            self.v,
+            speeds,
+            up,
+            down,
+            symmetric,
+            self.s.clamp_raw_controls,
+            np.float32(self.s.model_dt),
+            start,
+            self._pos,
+            self._yaw_rows,
+        )
 
     def _update_control_sequence(self, costs: F32, speed: tuple[float, float, float]) -> None:
         s, cs, u = self.s, self.control_sequence, self.u
