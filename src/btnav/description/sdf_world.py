@@ -506,7 +506,7 @@ def _circle_section(radius: float, z0: float, z1: float, lo: float, hi: float) -
 
 def _prism_ring(radius: float, sides: int = PRISM_SIDES) -> np.ndarray:
     s, c = fmath.sincos(np.arange(sides) * (2.0 * np.pi / sides))
-    r = radius / math.cos(math.pi / sides)
+    r = radius / fmath.cos(math.pi / sides)
     return np.stack([c * r, s * r], axis=1)
 
 

@@ -14,6 +14,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ..core import fmath
 from ..core.errors import MapError
 from ..core.geometry import Pose2D
 from ..maps.occupancy_grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
@@ -128,9 +129,10 @@ class _Raster:
 
     def trace_circle(self, cx: float, cy: float, r: float) -> None:
         """The circle's cells, through an inscribed polygon within res/20 of the circle."""
-        n = max(16, math.ceil(math.pi / math.acos(max(1.0 - self.res / 20.0 / r, -1.0))))
-        ang = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-        self.trace_outline(np.column_stack([cx + r * np.cos(ang), cy + r * np.sin(ang)]))
+        c = max(1.0 - self.res / 20.0 / r, -1.0)  # acos(c) as fmath's arctan2, on any CPU
+        n = max(16, math.ceil(math.pi / fmath.arctan2(math.sqrt(1.0 - c * c), c)))
+        s, co = fmath.sincos(np.linspace(0.0, 2 * math.pi, n, endpoint=False))
+        self.trace_outline(np.column_stack([cx + r * co, cy + r * s]))
 
 
 def rasterize(

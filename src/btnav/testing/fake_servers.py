@@ -27,6 +27,7 @@ import numpy as np
 from ..bt.nav2_actions import BtActionNode, BtCancelActionNode
 from ..bt.nav2_context import pose_of
 from ..bt.registry import node_types
+from ..core import fmath
 from ..core.error_codes import NavResult, error_codes
 from ..core.errors import UnknownNameError
 from ..core.geometry import Pose2D
@@ -174,7 +175,7 @@ def straight_path(poses: Sequence[Pose2D], stamp: float) -> Path:
         pieces.append(a + (b - a) * (np.arange(n)[:, None] / n))
     pts = np.vstack([*pieces, xy[-1:]]) if pieces else xy
     d = np.diff(pts, axis=0)
-    yaw = np.append(np.arctan2(d[:, 1], d[:, 0]), poses[-1].yaw) if len(d) else [poses[-1].yaw]
+    yaw = np.append(fmath.arctan2(d[:, 1], d[:, 0]), poses[-1].yaw) if len(d) else [poses[-1].yaw]
     return Path(stamp, np.column_stack([pts, yaw]), "map")
 
 
