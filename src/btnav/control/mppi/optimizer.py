@@ -37,9 +37,8 @@ environment says BTNAV_MPPI=numpy or the motion model has its own `predict`.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -50,17 +49,13 @@ from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
 from .critic_data import CriticData, cell_costs
 from .critic_function import CriticFunction
+from .kernel_switch import DEFAULT_METHOD, RolloutMethod
 from .motion_models import MotionModel
 from .noise import NoiseGenerator
 from .rollout_kernel import predict_rollouts
 from .smoothing import HISTORY, savitzky_golay
 
 F32 = NDArray[np.float32]
-RolloutMethod = Literal["kernel", "numpy"]
-
-#: How the rollouts are computed: "kernel" (one compiled pass) or "numpy" (the
-#: reference; environment variable BTNAV_MPPI=numpy). The same bits either way.
-DEFAULT_METHOD: RolloutMethod = "numpy" if os.environ.get("BTNAV_MPPI") == "numpy" else "kernel"
 
 
 def clamp_by_accel(last: float, value: float, min_delta: float, max_delta: float) -> float:

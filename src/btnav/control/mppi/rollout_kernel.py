@@ -16,7 +16,7 @@ does, in its order, and the running sums add step i to step i - 1 as numpy's row
 - symmetric limits: v[i] = v[i-1] + max(min(u[i-1] - v[i-1], up), -up);
 - asymmetric ones: clip(u[i-1], v[i-1] + (down or -up), v[i-1] + (up or -down)), the
   choice by v[i-1] > 0; np.minimum, np.maximum and np.clip's NaN and signed-zero rules
-  (`_minimum`, `_maximum`: a NaN wins, a tie gives the second operand);
+  (`np_minimum`, `np_maximum`: a NaN wins, a tie gives the second operand);
 - yaw[i+1] = yaw[i] + wz[i] dt; (sin, cos) of yaw[i] by `fmath_kernels.sincos_f32`
   (fmath.sincos's float32 path); x[i] = x[i-1] + (vx cos [- vy sin]) dt, y likewise.
 
@@ -36,13 +36,13 @@ F32 = NDArray[np.float32]
 
 
 @nb.njit(**JIT)
-def _minimum(a: np.float32, b: np.float32) -> np.float32:
+def np_minimum(a: np.float32, b: np.float32) -> np.float32:
     """np.minimum on two floats: a NaN propagates, a tie (-0 and +0) gives `b`."""
     return a if (a < b or a != a) else b
 
 
 @nb.njit(**JIT)
-def _maximum(a: np.float32, b: np.float32) -> np.float32:
+def np_maximum(a: np.float32, b: np.float32) -> np.float32:
     """np.maximum on two floats: a NaN propagates, a tie gives `b`."""
     return a if (a > b or a != a) else b
 
@@ -57,7 +57,7 @@ def _limit_row(
     if symmetric:
         for b in range(out.shape[0]):
             p = prev[b]
-            out[b] = p + _maximum(_minimum(u[b] - p, up), down)
+            out[b] = p + np_maximum(np_minimum(u[b] - p, up), down)
     else:
         neg_up, neg_down = -up, -down
         for b in range(out.shape[0]):
@@ -65,7 +65,7 @@ def _limit_row(
             ahead = p > 0
             lo = p + (down if ahead else neg_up)
             hi = p + (up if ahead else neg_down)
-            out[b] = _minimum(_maximum(u[b], lo), hi)
+            out[b] = np_minimum(np_maximum(u[b], lo), hi)
 
 
 @nb.njit(**JIT)

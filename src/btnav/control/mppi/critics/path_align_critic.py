@@ -10,6 +10,8 @@ from ....plugins import register
 from ..angles import abs_angle_diff
 from ..critic_data import CriticData
 from ..critic_function import NAMESPACE, CriticFunction
+from ..kernel_switch import DEFAULT_METHOD, RolloutMethod
+from ..path_align_kernel import arc_length_table, path_align_costs
 
 #: Arc-length lookup resolution: the path's length in this many bins.
 LOOKUP_BINS = 2048
@@ -23,16 +25,10 @@ def nearest_by_arc_length(path_s: np.ndarray, s: np.ndarray) -> np.ndarray:
     with one sorted search and read by integer division (nearest to within
     length / 4096, about half a millimetre on a 2 m path).
     """
-    n = len(path_s)
-    length = float(path_s[-1])
-    if length <= 0.0:
+    table, inv_ds = arc_length_table(path_s, LOOKUP_BINS)
+    if inv_ds == 0.0:  # a path of no length
         return np.zeros(s.shape, np.intp)
-    ds = length / LOOKUP_BINS
-    grid = np.arange(LOOKUP_BINS + 1, dtype=np.float64) * ds
-    hi = np.minimum(np.maximum(np.searchsorted(path_s, grid), 1), n - 1)  # np.clip: ~20 us more
-    lo = hi - 1
-    table = np.where(grid - path_s[lo] < path_s[hi] - grid, lo, hi)
-    bins = np.minimum((s * np.float32(1.0 / ds) + np.float32(0.5)).astype(np.int32), LOOKUP_BINS)
+    bins = np.minimum((s * inv_ds + np.float32(0.5)).astype(np.int32), LOOKUP_BINS)
     return table[bins]
 
 
@@ -59,6 +55,10 @@ class PathAlignCritic(CriticFunction):
         trajectory_point_step: int = Field(4, ge=1)
         use_path_orientations: bool = False
 
+    #: "kernel" (path_align_kernel.py) or "numpy" (the reference), the optimizer's
+    #: DEFAULT_METHOD (BTNAV_MPPI=numpy); the same bits either way.
+    method: RolloutMethod = DEFAULT_METHOD
+
     def score(self, data: CriticData) -> None:
         p = self.params
         n = len(data.path)
@@ -76,6 +76,15 @@ class PathAlignCritic(CriticFunction):
         seg = fmath.hypot(np.diff(path[:, 0]), np.diff(path[:, 1]))
         path_s = np.concatenate([[0.0], np.cumsum(seg)]).astype(np.float32)
         step = p.trajectory_point_step
+        if self.method == "kernel":
+            table, inv_ds = arc_length_table(path_s, LOOKUP_BINS)
+            cost = np.empty(len(data.costs), np.float32)
+            path_align_costs(
+                data.x.T, data.y.T, data.yaws.T, step, np.ascontiguousarray(path), valid,
+                table, inv_ds, p.use_path_orientations, cost,
+            )  # fmt: skip
+            self.add(data, cost)
+            return
         # Work time-major, (K, B): each sampled time step is one contiguous row.
         xs = np.ascontiguousarray(data.x.T[::step])
         ys = np.ascontiguousarray(data.y.T[::step])
