@@ -15,7 +15,7 @@ the path until the path itself is short.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,6 +25,8 @@ from ...core.errors import ParamsError
 from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
+from .furthest_point_kernel import furthest_reached
+from .kernel_switch import DEFAULT_METHOD, RolloutMethod
 
 F32 = NDArray[np.float32]
 
@@ -60,6 +62,9 @@ class CriticData:
     wz_max: float = 1.9
     min_turning_r: float | None = None
     fail_flag: bool = False
+    #: DEFAULT_METHOD (BTNAV_MPPI=numpy): how `furthest_reached_path_point` runs; the
+    #: same integer either way.
+    method: ClassVar[RolloutMethod] = DEFAULT_METHOD
     _furthest: int | None = field(default=None, repr=False)
     _valid: NDArray[np.bool_] | None = field(default=None, repr=False)
     _path_length: float | None = field(default=None, repr=False)
@@ -101,6 +106,9 @@ class CriticData:
             if n == 0:
                 self._furthest = 0
                 return 0
+            if self.method == "kernel" and self._kernel_ready():
+                self._furthest = int(furthest_reached(self.x, self.y, px, py))
+                return self._furthest
             seg = fmath.hypot(px[1:] - px[:-1], py[1:] - py[:-1])
             path_s = np.concatenate([[np.float32(0.0)], np.cumsum(seg, dtype=np.float32)])
             dx, dy = self.x[:, 1:] - self.x[:, :-1], self.y[:, 1:] - self.y[:, :-1]
@@ -113,6 +121,19 @@ class CriticData:
             d[np.arange(n)[None, :] > reach[:, None]] = np.inf
             self._furthest = int(np.argmin(d, axis=1).max())
         return self._furthest
+
+    def _kernel_ready(self) -> bool:
+        """The compiled search takes float32 rollouts and paths and at least one rollout
+        (numpy's max over an empty batch raises; other dtypes keep numpy's promotions)."""
+        f32 = np.dtype(np.float32)
+        return (
+            self.x.dtype == f32
+            and self.y.dtype == f32
+            and self.path.dtype == f32
+            and self.x.ndim == 2
+            and self.x.shape == self.y.shape
+            and self.x.shape[0] > 0
+        )
 
     def path_points_valid(self) -> NDArray[np.bool_]:
         """Per path point: not in collision on the costmap (the last point is always valid)."""

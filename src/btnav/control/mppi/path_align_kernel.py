@@ -4,8 +4,8 @@ numpy path's float32 bits.
 The numpy path (`PathAlignCritic.score` after its gates) builds a dozen (K - 1, B)
 temporaries: the strided points, their segment lengths and running sums, the arc-length
 lookup, the gathered path points, the distances, the masks and the sums (0.26 ms at
-2000 x 56; the rest of the critic's 1.05 ms is `CriticData.furthest_reached_path_point`,
-which this kernel does not touch). Here each sampled step is two loops over the batch:
+2000 x 56; the rest of the critic's 1.05 ms was `CriticData.furthest_reached_path_point`,
+compiled on its own in furthest_point_kernel.py). Here each sampled step is two loops over the batch:
 the running length and its lookup bin (no branch: vectorised), then the path point, the
 distance, the total and the count per rollout (0.09 ms in all).
 
