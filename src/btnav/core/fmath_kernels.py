@@ -83,6 +83,18 @@ def _from_bits(typingctx, b):  # type: ignore[no-untyped-def]
 # -- fmath's functions ----------------------------------------------------------------
 
 
+@nb.njit(inline="always", **JIT)
+def _quadrant(s, c, q):  # type: ignore[no-untyped-def]  # float64 or float32 alike
+    """sin and cos on [-pi/4, pi/4] moved to quadrant q: a swap and signs (exact)."""
+    if q & 1:
+        s, c = c, s
+    if q & 2:
+        s = -s
+    if (q + 1) & 2:
+        c = -c
+    return s, c
+
+
 @nb.njit(**JIT)
 def sincos_steps(x: float) -> tuple[float, float]:
     """`fmath._sincos_py`: what fmath.sincos gives each element of a small array."""
@@ -117,13 +129,7 @@ def sincos_steps(x: float) -> tuple[float, float]:
     hz = z * 0.5
     c = 1.0 - hz
     c += ((1.0 - c) - hz) + r
-    if q & 1:
-        s, c = c, s
-    if q & 2:
-        s = -s
-    if (q + 1) & 2:
-        c = -c
-    return s, c
+    return _quadrant(s, c, q)
 
 
 @nb.njit(**JIT)
@@ -165,14 +171,7 @@ def sincos_f32(x: np.float32) -> tuple[np.float32, np.float32]:
     c = (c + _C1) * z
     c = (c - 0.5) * z
     c += 1.0
-    sf, cf = np.float32(s), np.float32(c)
-    if q & 1:
-        sf, cf = cf, sf
-    if q & 2:
-        sf = -sf
-    if (q + 1) & 2:
-        cf = -cf
-    return sf, cf
+    return _quadrant(np.float32(s), np.float32(c), q)
 
 
 @nb.njit(**JIT)

@@ -18,11 +18,20 @@ import numpy as np
 
 from ..core.fmath_kernels import JIT, arctan2, remainder, sincos
 from . import dubins
-from .reeds_shepp_kernel import LETTER_CODES, clip_unit, positive_part, sample_segments
+from .reeds_shepp_kernel import (
+    LETTER_CODES,
+    clip_unit,
+    positive_part,
+    sample_segments,
+    shortest_word,
+    solve_all,
+)
 
 _TWO_PI = 2.0 * math.pi
 _WRAP = _TWO_PI - dubins._TOL
 _TOL = dubins._TOL
+#: Every Dubins word has three segments (reeds_shepp_kernel.shortest_word reads a count).
+_THREE_SEGMENTS = np.full(len(dubins.WORDS), 3, np.int64)
 
 
 @nb.njit(**JIT)
@@ -95,22 +104,6 @@ def solve_words(
         found[i] = abs(cos_mid) <= 1.0 + _TOL
 
 
-@nb.njit(**JIT)
-def shortest_word(lengths: np.ndarray, found: np.ndarray) -> int:
-    """The index of the shortest found word (ties to the first), its length the sum of
-    its three segments first to last, as DubinsPath.length adds them."""
-    best, best_length = -1, math.inf
-    for w in range(found.shape[0]):
-        if not found[w]:
-            continue
-        total = 0.0
-        for j in range(3):
-            total += lengths[w, j]
-        if best < 0 or total < best_length:
-            best, best_length = w, total
-    return best
-
-
 class DubinsPath(dubins.DubinsPath):
     """dubins.DubinsPath, sampled by the compiled `sample_segments`."""
 
@@ -122,24 +115,11 @@ class DubinsPath(dubins.DubinsPath):
         )  # fmt: skip
 
 
-def _solve_all(
-    start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
-) -> tuple[np.ndarray, np.ndarray]:
-    lengths = np.zeros((len(dubins.WORDS), 3))
-    found = np.zeros(len(dubins.WORDS), np.bool_)
-    solve_words(
-        float(start[0]), float(start[1]), float(start[2]),
-        float(goal[0]), float(goal[1]), float(goal[2]),
-        float(turning_radius), lengths, found,
-    )  # fmt: skip
-    return lengths, found
-
-
 def all_words(
     start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
 ) -> dict[str, DubinsPath]:
     """dubins.all_words, compiled."""
-    lengths, found = _solve_all(start, goal, turning_radius)
+    lengths, found = solve_all(solve_words, len(dubins.WORDS), 3, start, goal, turning_radius)
     return {
         word: DubinsPath(word, tuple(lengths[w].tolist()), turning_radius)
         for w, word in enumerate(dubins.WORDS)
@@ -151,6 +131,6 @@ def shortest_path(
     start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
 ) -> DubinsPath:
     """dubins.shortest_path, compiled."""
-    lengths, found = _solve_all(start, goal, turning_radius)
-    w = shortest_word(lengths, found)
+    lengths, found = solve_all(solve_words, len(dubins.WORDS), 3, start, goal, turning_radius)
+    w = shortest_word(lengths, found, _THREE_SEGMENTS)  # lengths >= 0: abs changes none
     return DubinsPath(dubins.WORDS[w], tuple(lengths[w].tolist()), turning_radius)

@@ -19,6 +19,7 @@ tables. reeds_shepp.py stays the reference and the documentation of the forms; t
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba as nb
 import numpy as np
@@ -342,7 +343,9 @@ def all_words(
     start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
 ) -> dict[str, ReedsSheppPath]:
     """reeds_shepp.all_words, compiled."""
-    lengths, found = _solve_all(start, goal, turning_radius)
+    lengths, found = solve_all(
+        solve_words, len(rs.WORDS), MAX_SEGMENTS, start, goal, turning_radius
+    )
     return {word: _path(w, lengths, turning_radius) for w, word in enumerate(rs.WORDS) if found[w]}
 
 
@@ -350,16 +353,25 @@ def shortest_path(
     start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
 ) -> ReedsSheppPath:
     """reeds_shepp.shortest_path, compiled."""
-    lengths, found = _solve_all(start, goal, turning_radius)
+    lengths, found = solve_all(
+        solve_words, len(rs.WORDS), MAX_SEGMENTS, start, goal, turning_radius
+    )
     return _path(shortest_word(lengths, found, _WORD_SEGMENTS), lengths, turning_radius)
 
 
-def _solve_all(
-    start: tuple[float, float, float], goal: tuple[float, float, float], turning_radius: float
+def solve_all(
+    solve: Any,
+    n_words: int,
+    width: int,
+    start: tuple[float, float, float],
+    goal: tuple[float, float, float],
+    turning_radius: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    lengths = np.zeros((len(rs.WORDS), MAX_SEGMENTS))
-    found = np.zeros(len(rs.WORDS), np.bool_)
-    solve_words(
+    """Every word's segment lengths (n_words, width) and whether it was found, from a
+    compiled `solve_words` (this module's or dubins_kernel's)."""
+    lengths = np.zeros((n_words, width))
+    found = np.zeros(n_words, np.bool_)
+    solve(
         float(start[0]), float(start[1]), float(start[2]),
         float(goal[0]), float(goal[1]), float(goal[2]),
         float(turning_radius), lengths, found,

@@ -26,7 +26,7 @@ from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE,
 from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
 from .furthest_point_kernel import furthest_reached
-from .kernel_switch import DEFAULT_METHOD, RolloutMethod
+from .kernel_switch import DEFAULT_METHOD, KernelMethod
 
 F32 = NDArray[np.float32]
 
@@ -64,7 +64,7 @@ class CriticData:
     fail_flag: bool = False
     #: DEFAULT_METHOD (BTNAV_MPPI=numpy): how `furthest_reached_path_point` runs; the
     #: same integer either way.
-    method: ClassVar[RolloutMethod] = DEFAULT_METHOD
+    method: ClassVar[KernelMethod] = DEFAULT_METHOD
     _furthest: int | None = field(default=None, repr=False)
     _valid: NDArray[np.bool_] | None = field(default=None, repr=False)
     _path_length: float | None = field(default=None, repr=False)

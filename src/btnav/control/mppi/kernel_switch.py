@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 from typing import Literal
 
-RolloutMethod = Literal["kernel", "numpy"]
+KernelMethod = Literal["kernel", "numpy"]
 
 #: "kernel" unless the environment says BTNAV_MPPI=numpy.
-DEFAULT_METHOD: RolloutMethod = "numpy" if os.environ.get("BTNAV_MPPI") == "numpy" else "kernel"
+DEFAULT_METHOD: KernelMethod = "numpy" if os.environ.get("BTNAV_MPPI") == "numpy" else "kernel"

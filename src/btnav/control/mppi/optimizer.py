@@ -49,7 +49,7 @@ from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
 from .critic_data import CriticData, cell_costs
 from .critic_function import CriticFunction
-from .kernel_switch import DEFAULT_METHOD, RolloutMethod
+from .kernel_switch import DEFAULT_METHOD, KernelMethod
 from .motion_models import MotionModel
 from .noise import NoiseGenerator
 from .rollout_kernel import predict_rollouts
@@ -111,7 +111,7 @@ class Optimizer:
         self.holonomic = model.holonomic
         #: "kernel" or "numpy" (DEFAULT_METHOD); the compiled pass only runs the base
         #: MotionModel.predict, so a model overriding it always takes the numpy path.
-        self.rollout_method: RolloutMethod = DEFAULT_METHOD
+        self.rollout_method: KernelMethod = DEFAULT_METHOD
         T, B, C = settings.time_steps, settings.batch_size, model.channels
         stds = [settings.vx_std, settings.wz_std, settings.vy_std][:C]
         self.stds = stds
@@ -265,12 +265,16 @@ class Optimizer:
         self._update_control_sequence(data.costs, speed)
         return data
 
+    def _speed_row(self, speed: tuple[float, float, float]) -> tuple[float, float, float]:
+        """The speed as a control sequence row (vx, vy, wz): what a shifted step 0 is."""
+        return speed[0], speed[1] if self.holonomic else 0.0, speed[2]
+
     def _pin_first_step(self, speed: tuple[float, float, float]) -> None:
         """Nav2's inter-iteration constraint: the sequence's first step is the speed now
         (when shifting: it is not sent) or within one controller period of it."""
         cs, c, dt = self.control_sequence, self.model.c, self.s.controller_period
         if self.s.shift_control_sequence:
-            cs[0] = (speed[0], speed[1] if self.holonomic else 0.0, speed[2])
+            cs[0] = self._speed_row(speed)
             return
         cs[0, 0] = clamp_by_accel(speed[0], float(cs[0, 0]), c.ax_min * dt, c.ax_max * dt)
         cs[0, 2] = clamp_by_accel(speed[2], float(cs[0, 2]), -c.az_max * dt, c.az_max * dt)
@@ -365,7 +369,7 @@ class Optimizer:
         cs, c, s = self.control_sequence, self.model.c, self.s
         self.model.apply_constraints(cs)
         if s.shift_control_sequence:
-            cs[0] = (speed[0], speed[1] if self.holonomic else 0.0, speed[2])
+            cs[0] = self._speed_row(speed)
         channels = [(0, speed[0], c.vx_min, c.vx_max, c.ax_min, c.ax_max),
                     (2, speed[2], -c.wz_max, c.wz_max, -c.az_max, c.az_max)]  # fmt: skip
         if self.holonomic:
