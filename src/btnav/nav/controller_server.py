@@ -80,6 +80,8 @@ class ControllerServer(PluginServer):
         self.tracker = PathTracker()
         self._set_control_duration()
         self.controller: Any = None
+        #: The speed limit in force (Nav2's SpeedLimit message: limit, percentage); 0: none.
+        self.speed_limit: tuple[float, bool] = (0.0, True)
         self.goal_checker: Any = None
         self.progress_checker: Any = None
         self.last_valid_cmd_time = 0.0
@@ -271,6 +273,13 @@ class ControllerServer(PluginServer):
             self._publish(Twist())
         return result
 
+    def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
+        """Nav2's `speed_limit` topic (a speed filter, a route's AdjustSpeedLimit): every
+        controller takes it, as Nav2's speedLimitCallback hands it to each; 0 lifts it."""
+        self.speed_limit = (float(speed_limit), bool(percentage))
+        for controller in self.controllers.values():
+            controller.set_speed_limit(*self.speed_limit)
+
     def _set_control_duration(self) -> None:
         period = 1.0 / self.params.model.controller_frequency
         for controller in self.controllers.values():
@@ -298,6 +307,7 @@ class ControllerServer(PluginServer):
             elif name in self.controllers and section.params != self.controllers[name].params:
                 fresh = make_plugin(section, seed=self.seed, server=params.name)
                 fresh.configure(self.costmap.costmap_ros)
+                fresh.set_speed_limit(*self.speed_limit)
                 if self.controller is self.controllers[name]:
                     self.controller = fresh
                     self._fed_transform = None

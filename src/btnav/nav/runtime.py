@@ -164,7 +164,10 @@ class Runtime:
         self.latest: dict[str, Any] = {"odom": self.odometry.last}
         self.latest_odom: Odometry = self.odometry.last
         self.latest_scan: LaserScan | None = None
+        #: The base's command (`cmd_vel`) and the servers' (`cmd_vel_nav`), the last sent.
         self.cmd_vel = Twist()
+        self.cmd_vel_nav = Twist()
+        self._cmd_vel_chain: Callable[[Twist], None] = self.command_base
         self._subscribers: dict[str, list[Callable[[Any], None]]] = {}
         self.action_servers = ActionServers()
         self.localizer: Any = None
@@ -305,7 +308,20 @@ class Runtime:
             spent[label] = spent.get(label, 0.0) + (perf_counter() - t0)
 
     def set_cmd_vel(self, cmd: Twist) -> None:
-        """The velocity command the base follows from the next physics step on."""
+        """A navigation server's velocity command (the controller's, a behaviour's): Nav2's
+        `cmd_vel_nav`. It goes down the command chain (velocity smoother, collision
+        monitor, when the params file brings them up) to the base, else straight there."""
+        self.cmd_vel_nav = cmd
+        self._cmd_vel_chain(cmd)
+
+    def route_cmd_vel(self, first: Callable[[Twist], None]) -> None:
+        """Send `set_cmd_vel`'s commands to `first` (the chain's first stage) instead of
+        the base; the chain's last stage calls `command_base`."""
+        self._cmd_vel_chain = first
+
+    def command_base(self, cmd: Twist) -> None:
+        """The base's `cmd_vel`, followed from the next physics step on (the end of the
+        chain, and what publishes to the base directly: teleop, the docking server)."""
         self.cmd_vel = cmd
         self.world.set_cmd_vel(cmd)
 

@@ -106,7 +106,7 @@ class NavStack:
             global_costmap=global_costmap,
         )
         explore = ExploreServer(runtime, pf.server("explore"), global_costmap, map_server)
-        return cls(
+        stack = cls(
             runtime,
             pf,
             map_server,
@@ -118,6 +118,14 @@ class NavStack:
             behaviors,
             explore,
         )
+        # The servers Nav2's launch brings up beside these, each only when the params
+        # file has its section (a file without one runs as before), in launch order.
+        return stack
+
+    def add_server(self, name: str, server: Any) -> Any:
+        """Keep an optional server under its params-file name (for set_parameters); returns it."""
+        self.servers[name] = server
+        return server
 
     # -- dynamic parameters ---------------------------------------------------------------
 

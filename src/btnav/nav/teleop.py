@@ -55,15 +55,15 @@ class DriveServer(ActionServer[DriveGoal]):
         # the command whose span holds `now` (a small tolerance: sim time is in ns steps)
         i = next((k for k, end in enumerate(self._ends) if now < end - 1e-9), None)
         if i is None:
-            self.runtime.set_cmd_vel(Twist())
+            self.runtime.command_base(Twist())
             return NavResult.success()
         v, w, _ = handle.goal.commands[i]
-        self.runtime.set_cmd_vel(Twist(linear_x=float(v), angular_z=float(w)))
+        self.runtime.command_base(Twist(linear_x=float(v), angular_z=float(w)))
         handle.publish_feedback(DriveFeedback(i, self._ends[-1] - now), now)
         return None
 
     def on_cancel(self, handle: GoalHandle[DriveGoal], now: float) -> NavResult | None:
-        self.runtime.set_cmd_vel(Twist())
+        self.runtime.command_base(Twist())
         return NavResult.cancellation()
 
     def __repr__(self) -> str:
