@@ -13,7 +13,8 @@ LAYERS: list[set[str]] = [
     {"maps", "params", "plugins", "description"},
     {"sim"},
     {"costmap"},
-    {"planning", "control", "behaviors", "localization", "slam", "exploration"},
+    {"planning", "control", "behaviors", "localization", "slam", "exploration"}
+    | {"route", "docking", "collision_monitor"},
     {"nav"},
     {"bt"},
     {"navigators"},

@@ -105,6 +105,8 @@ def test_follow_path_halt_cancels_the_goal_and_stops_the_robot():
     rt.step()
     rt.spin_for(0.1)
     assert handle.status is GoalStatus.CANCELED
+    assert rt.cmd_vel_nav.linear_x == 0.0 and rt.cmd_vel_nav.angular_z == 0.0
+    rt.spin_for(0.2)  # the velocity smoother's ramp down (3 m/s^2 from 0.5 m/s at most)
     assert rt.cmd_vel.linear_x == 0.0 and rt.cmd_vel.angular_z == 0.0
 
 
@@ -236,4 +238,38 @@ def test_cancel_control_cancels_the_controllers_goal(stack):
     root.tick_once()
     assert root.status == S
     rt.spin_for(0.1)
+    assert handle.status is GoalStatus.CANCELED
+
+
+@pytest.mark.parametrize(("is_recovery", "status"), [("false", S), ("true", F)])
+def test_assisted_teleop_times_out_with_nav2s_code_and_fails_only_as_a_recovery(
+    is_recovery, status
+):
+    _world, rt, _nav = stack = office()
+    root = tree(
+        f'<AssistedTeleop time_allowance="0.5" is_recovery="{is_recovery}" '
+        'error_code_id="{ec}" error_msg="{em}"/>',
+        stack,
+    )
+    count = recovery_count()
+    statuses = run(root, rt, max_ticks=200)
+    assert statuses[-1] == status and statuses[:-1] == [R] * (len(statuses) - 1)
+    assert 0.5 <= rt.now <= 0.75  # the allowance, then the next cycle of the server (10 Hz)
+    assert bb("ec") == 731  # AssistedTeleop's TIMEOUT
+    assert recovery_count() == count + (1 if is_recovery == "true" else 0)
+
+
+def test_cancel_assisted_teleop_ends_the_running_goal():
+    _world, rt, _nav = stack = office()
+    root = tree(
+        '<Sequence><AssistedTeleop time_allowance="0" error_code_id="{ec}" error_msg="{em}"/>'
+        "</Sequence>",
+        stack,
+    )
+    run(root, rt, max_ticks=20)
+    handle = find(root, "AssistedTeleop").handle
+    assert handle.status is GoalStatus.EXECUTING
+    cancel = tree("<CancelAssistedTeleop/>", stack)
+    assert run(cancel, rt)[-1] == S
+    rt.spin_for(0.2)
     assert handle.status is GoalStatus.CANCELED

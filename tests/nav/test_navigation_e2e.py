@@ -67,6 +67,8 @@ def test_reaches_goal_through_doorway(controller, tmp_path):
     assert run.handle.status is GoalStatus.SUCCEEDED, run.handle.result
     assert xy_dist(run.final, DOORWAY_GOAL) <= checker.params.xy_goal_tolerance + 0.02
     assert run.collisions == 0
+    assert rt.cmd_vel_nav.linear_x == 0.0 and rt.cmd_vel_nav.angular_z == 0.0
+    rt.spin_for(0.2)  # the velocity smoother's ramp down
     assert rt.cmd_vel.linear_x == 0.0 and rt.cmd_vel.angular_z == 0.0
 
 

@@ -48,6 +48,8 @@ def test_follow_path_cancel_leaves_zero_velocity():
     h.cancel()
     rt.spin_for(0.1)
     assert h.status is GoalStatus.CANCELED
+    assert (rt.cmd_vel_nav.linear_x, rt.cmd_vel_nav.angular_z) == (0.0, 0.0)
+    rt.spin_for(0.2)  # the velocity smoother ramps the base down (3 m/s^2, Nav2's file)
     assert (rt.cmd_vel.linear_x, rt.cmd_vel.angular_z) == (0.0, 0.0)
 
 
@@ -95,7 +97,7 @@ def test_no_progress_aborts_with_failed_to_make_progress():
     h = rt.action_client("follow_path").send_goal(FollowPathGoal(path))
     rt.run_until(lambda: h.done, 5.0)
     assert h.error_code == FollowPathError.FAILED_TO_MAKE_PROGRESS
-    assert rt.cmd_vel.linear_x == 0.0
+    assert rt.cmd_vel_nav.linear_x == 0.0
 
 
 def test_smooth_path_action():
@@ -175,8 +177,14 @@ def test_the_stack_serves_nav2s_behaviors_on_its_local_costmap():
     from btnav.core.error_codes import SpinError
 
     world, rt, stack = office()
-    assert set(stack.behavior_server.servers) == {"spin", "backup", "drive_on_heading", "wait"}
-    assert stack.behavior_server.not_implemented == ["assisted_teleop"]
+    assert set(stack.behavior_server.servers) == {
+        "spin",
+        "backup",
+        "drive_on_heading",
+        "assisted_teleop",
+        "wait",
+    }
+    assert stack.behavior_server.not_implemented == []
     rt.spin_for(0.5)  # the local costmap has seen the walls
     h = rt.action_client("spin").send_goal(SpinGoal(target_yaw=1.57, time_allowance=10.0))
     assert rt.run_until(lambda: h.done, 15.0)

@@ -42,15 +42,15 @@ def test_every_implemented_server_is_loaded(nav2) -> None:
     assert nav2.server("velocity_smoother").model.max_velocity == [0.5, 0.0, 2.0]
 
 
-def test_plugin_sections_resolve_to_nav2_types_not_implemented_yet(nav2) -> None:
-    # AssistedTeleop is a Nav2 behavior btnav does not implement.
+def test_plugin_sections_resolve_to_nav2_types(nav2) -> None:
+    from btnav.behaviors.assisted_teleop import AssistedTeleop
+
     teleop = nav2.server("behavior_server").plugins["assisted_teleop"]
     assert (teleop.kind, teleop.type, teleop.cls) == (
         "behavior",
         "nav2_behaviors::AssistedTeleop",
-        None,
+        AssistedTeleop,
     )
-    assert teleop.status == "not implemented yet"
     kinds = {p.kind for p in nav2.plugins()}
     assert kinds >= {
         "planner",
@@ -77,7 +77,7 @@ def test_plugin_sections_resolve_to_nav2_types_not_implemented_yet(nav2) -> None
 def test_check_main_succeeds_and_reports(nav2_params_file: Path, capsys) -> None:
     assert check_main(nav2_params_file) == 0
     out = capsys.readouterr().out
-    assert "assisted_teleop -> nav2_behaviors::AssistedTeleop: not implemented yet" in out
+    assert "assisted_teleop -> nav2_behaviors::AssistedTeleop: btnav.behaviors" in out
     assert "FollowPath -> nav2_mppi_controller::MPPIController" in out
     assert "GridBased -> nav2_navfn_planner::NavfnPlanner" in out
     assert "line 538: docking_server: Nav2's docking server" in out

@@ -1,12 +1,16 @@
-"""Nav2's behavior_server action nodes (Spin, BackUp, DriveOnHeading, Wait): BtActionNodes."""
+"""Nav2's behavior_server action nodes (Spin, BackUp, DriveOnHeading, Wait,
+AssistedTeleop): BtActionNodes."""
 
 from __future__ import annotations
 
 from typing import Any, ClassVar
 
-from ..core.nav2_msgs import BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
+from py_trees.common import Status
+
+from ..core.error_codes import NavResult
+from ..core.nav2_msgs import AssistedTeleopGoal, BackUpGoal, DriveOnHeadingGoal, SpinGoal, WaitGoal
 from ..plugins import register
-from .base import input_port
+from .base import S, input_port
 from .nav2_actions import BASIC_INPUTS, BASIC_OUTPUTS, BtActionNode
 from .nav2_context import increment_recovery_count
 
@@ -102,3 +106,28 @@ class Wait(BtActionNode):
 
     def make_goal(self) -> Any:
         return WaitGoal(time=abs(self.get_input("wait_duration")))
+
+
+@register("bt_node", "AssistedTeleop")
+class AssistedTeleop(BtActionNode):
+    """Teleop through the local costmap for `time_allowance` seconds. A failure is the
+    node's FAILURE only as a recovery (`is_recovery`); otherwise the node succeeds, as
+    Nav2's does (the person driving decides)."""
+
+    ACTION = "AssistedTeleop"
+    SERVER = "assisted_teleop"
+    INPUT_PORTS: ClassVar = {
+        "is_recovery": input_port(bool, "If true increment the recovery counter", False),
+        "time_allowance": input_port(float, "Time to invoke the behaviour for (s)", 10.0),
+        **BASIC_INPUTS,
+    }
+    OUTPUT_PORTS: ClassVar = dict(BASIC_OUTPUTS)
+
+    def make_goal(self) -> Any:
+        if self.get_input("is_recovery"):
+            increment_recovery_count()
+        return AssistedTeleopGoal(time_allowance=self.get_input("time_allowance"))
+
+    def on_aborted(self, result: NavResult) -> Status:
+        status = super().on_aborted(result)
+        return status if self.get_input("is_recovery") else S

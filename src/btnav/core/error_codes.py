@@ -130,6 +130,15 @@ class DriveOnHeadingError(NavErrorCode):
     INVALID_INPUT = 724
 
 
+class AssistedTeleopError(NavErrorCode):
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    UNKNOWN = 730
+    TIMEOUT = 731
+    TF_ERROR = 732
+
+
 class WaitError(NavErrorCode):
     NONE = 0
     GOAL_REJECTED = 1
@@ -190,6 +199,7 @@ ERROR_CODES: dict[str, type[NavErrorCode]] = {
         SpinError,
         BackUpError,
         DriveOnHeadingError,
+        AssistedTeleopError,
         WaitError,
         NavigateToPoseError,
         NavigateThroughPosesError,

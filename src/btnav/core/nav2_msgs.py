@@ -114,6 +114,18 @@ class WaitFeedback:
 
 
 @dataclass(frozen=True)
+class AssistedTeleopGoal:
+    """nav2_msgs/action/AssistedTeleop goal: seconds of teleop allowed (0 or less: no limit)."""
+
+    time_allowance: float = 10.0
+
+
+@dataclass(frozen=True)
+class AssistedTeleopFeedback:
+    current_teleop_duration: float
+
+
+@dataclass(frozen=True)
 class BehaviorResult:
     """A behaviour action's result fields besides the error code (`total_elapsed_time`)."""
 
@@ -203,9 +215,11 @@ class ExploreResult:
 
 @dataclass
 class DriveGoal:
-    """Velocity commands `(linear_x, angular_z, seconds)`, one after the other (teleop)."""
+    """Velocity commands `(linear_x, angular_z, seconds)`, one after the other (teleop);
+    `assisted`: through Nav2's AssistedTeleop (published on `cmd_vel_teleop`)."""
 
     commands: list[tuple[float, float, float]] = field(default_factory=list)
+    assisted: bool = False
 
 
 @dataclass

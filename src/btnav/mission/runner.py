@@ -40,7 +40,8 @@ def start_task(nav: BasicNavigator, mission: Mission) -> bool:
     if mission.task == "explore":
         return nav.explore()
     if mission.task == "drive":
-        return nav.drive(task.drive or [])
+        drive = task.drive
+        return drive is not None and nav.drive(drive.commands, assisted=drive.assisted)
     poses = [Pose2D(*p) for p in task.poses]
     if mission.task == "navigate_to_pose":
         return nav.go_to_pose(poses[0])

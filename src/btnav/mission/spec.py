@@ -92,6 +92,19 @@ class ExploreTask(StrictModel):
     """`task: explore` (or `explore: {}`): the explore tree until no frontier is left."""
 
 
+class DriveTask(StrictModel):
+    """`drive:` teleop commands `[linear_x, angular_z, seconds]` (a bare list: unassisted);
+    `assisted: true` drives them through Nav2's AssistedTeleop."""
+
+    commands: Annotated[list[DriveCommand], Field(min_length=1)]
+    assisted: bool = False
+
+    @model_validator(mode="before")
+    @classmethod
+    def _bare_list(cls, value: Any) -> Any:
+        return {"commands": value} if isinstance(value, list) else value
+
+
 class TaskSpec(StrictModel):
     """Exactly one task."""
 
@@ -99,7 +112,7 @@ class TaskSpec(StrictModel):
     navigate_through_poses: Poses | None = None
     follow_waypoints: Poses | None = None
     explore: ExploreTask | None = None
-    drive: Annotated[list[DriveCommand], Field(min_length=1)] | None = None
+    drive: DriveTask | None = None
 
     @model_validator(mode="before")
     @classmethod

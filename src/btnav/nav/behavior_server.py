@@ -5,7 +5,7 @@
 defaults when the file has none), each from its own section (`spin:`,
 `backup:`, ...), and registers an action server under the behaviour's name, the
 name a BT node's `server_name` uses (`spin`, `backup`, `drive_on_heading`,
-`wait`). A listed behaviour btnav does not implement (`assisted_teleop`) is
+`assisted_teleop`, `wait`). A listed behaviour that is not a registered plugin is
 skipped and named in `not_implemented`.
 
 The server is one runtime component at `cycle_frequency` (SERVER stage): each

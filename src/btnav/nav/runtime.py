@@ -283,6 +283,10 @@ class Runtime:
         LaserScan), or a sensor's frame id ("laser")."""
         self._subscribers.setdefault(topic, []).append(callback)
 
+    def publish(self, topic: str, msg: Any) -> None:
+        """Hand `msg` to the topic's subscribers now (and keep it in `latest`)."""
+        self._publish(topic, msg)
+
     def _publish(self, topic: str, msg: Any, spent: dict[str, float] | None = None) -> None:
         self.latest[topic] = msg
         if spent is not None:

@@ -34,6 +34,7 @@ from .map_server import MapServer
 from .planner_server import PlannerServer
 from .runtime import Runtime
 from .smoother_server import SmootherServer
+from .velocity_smoother import VelocitySmoother
 
 
 class NavStack:
@@ -60,6 +61,8 @@ class NavStack:
         self.smoother_server = smoother_server
         self.behavior_server = behavior_server
         self.explore_server = explore_server
+        #: The command chain's servers, when the params file brings them up.
+        self.velocity_smoother: VelocitySmoother | None = None
         #: Servers by their params-file name, for set_parameters.
         self.servers: dict[str, Any] = {
             "global_costmap": global_costmap,
@@ -120,7 +123,19 @@ class NavStack:
         )
         # The servers Nav2's launch brings up beside these, each only when the params
         # file has its section (a file without one runs as before), in launch order.
+        stack.bring_up_cmd_vel_chain()
         return stack
+
+    def bring_up_cmd_vel_chain(self) -> None:
+        """nav2_bringup's command chain: the servers' `cmd_vel_nav` -> velocity_smoother ->
+        `cmd_vel_smoothed` -> the base. Added after the servers, the smoother ticks in the
+        step a command is sent."""
+        runtime, pf = self.runtime, self.params
+        to_base = runtime.command_base
+        if "velocity_smoother" in pf:
+            smoother = VelocitySmoother(runtime, pf.server("velocity_smoother"), publish=to_base)
+            self.velocity_smoother = self.add_server("velocity_smoother", runtime.add(smoother))
+            runtime.route_cmd_vel(smoother.command_received)
 
     def add_server(self, name: str, server: Any) -> Any:
         """Keep an optional server under its params-file name (for set_parameters); returns it."""

@@ -165,11 +165,14 @@ class BasicNavigator:
         navigator = self._navigators(ExploreNavigator.action_name)[0]
         return self._send(navigator.name, ExploreGoal(behavior_tree))
 
-    def drive(self, commands: Sequence[Sequence[float]]) -> bool:
-        """Teleop: hold each `(linear_x, angular_z, seconds)` in turn, then stop."""
+    def drive(self, commands: Sequence[Sequence[float]], *, assisted: bool = False) -> bool:
+        """Teleop: hold each `(linear_x, angular_z, seconds)` in turn, then stop; `assisted`
+        drives through Nav2's AssistedTeleop (BasicNavigator's assistedTeleop with the
+        commands on `cmd_vel_teleop`)."""
         if "drive" not in self.runtime.action_servers:
             self.runtime.add(DriveServer(self.runtime))
-        return self._send("drive", DriveGoal([tuple(map(float, c)) for c in commands]))
+        goal = DriveGoal([tuple(map(float, c)) for c in commands], assisted=assisted)
+        return self._send("drive", goal)
 
     def spin(self, spin_dist: float = 1.57, time_allowance: float = 10.0) -> bool:
         return self._send("spin", SpinGoal(spin_dist, time_allowance))
