@@ -11,7 +11,7 @@ from setuptools import setup
 from setuptools.command.build_py import build_py
 
 ROOT = Path(__file__).resolve().parent
-BUNDLED = ("trees", "worlds", "maps", "params", "missions", "robots")
+BUNDLED = ("trees", "worlds", "maps", "params", "missions", "robots", "graphs")
 
 
 class BuildPyWithData(build_py):

@@ -20,6 +20,10 @@ intake included), planner (and smoother), controller, behaviours, tree (bt_navig
 and waypoint follower) and other (localiser, scheduler, the loop). numpy runs
 single-threaded: one core.
 
+The command chain (issue 36): the MPPI tour with Nav2's velocity_smoother and
+collision_monitor sections against the same file without them; the ratio of their
+real-time factors, target at least 0.90.
+
 Exploring (issue 15): missions/map_office.yaml, the office explored with SLAM
 (slam_toolbox's defaults) and MPPI until no reachable frontier is left: its real-time
 factor, the free area mapped per wall second, and the share of its reachable free
@@ -77,7 +81,13 @@ COMPONENTS = [
     ("controller", lambda k: k.startswith("ControllerServer")),
     ("behaviours", lambda k: k.startswith("BehaviorServer")),
     ("tree", lambda k: k.startswith(("Navigate", "WaypointFollower"))),
+    ("cmd_vel chain", lambda k: k.startswith(("VelocitySmoother", "CollisionMonitor"))),
 ]
+
+#: nav2_bringup's command chain: the sections whose servers sit between the controller
+#: and the base (issue 36: the tour with them stays within 10 % of the tour without).
+CHAIN = ("velocity_smoother", "collision_monitor")
+CHAIN_TARGET = 0.90
 
 
 def params_file(controller: str, tmp: Path) -> Path:
@@ -264,10 +274,31 @@ def profile_tour(controller: str, tmp: Path) -> None:
     prof.print(show_all=False)
 
 
+def bench_chain(runs: int, tmp: Path) -> None:
+    """MPPI's tour with Nav2's velocity smoother and collision monitor, against the same
+    file without their sections (the controller drives the base directly)."""
+    doc = yaml.safe_load(PARAMS.read_text())
+    bare = tmp / "nav2_params_no_chain.yaml"
+    bare.write_text(yaml.safe_dump({k: v for k, v in doc.items() if k not in CHAIN}))
+    with_chain, without = [], []
+    for _ in range(runs):  # interleaved, so a busy spell of the machine hits both alike
+        with_chain.append(run_tour(PARAMS))
+        without.append(run_tour(bare))
+    a, b = max(with_chain, key=lambda t: t.rtf), max(without, key=lambda t: t.rtf)
+    ratio = a.rtf / b.rtf
+    print("MPPI: the command chain (velocity_smoother -> collision_monitor -> base)")
+    print(f"  with the chain    {a.outcome}, sim {a.sim:.1f} s, {a.rtf:6.1f} x real time")
+    print(f"  without (bare)    {b.outcome}, sim {b.sim:.1f} s, {b.rtf:6.1f} x real time")
+    print(
+        f"  ratio {ratio:5.2f}   target >= {CHAIN_TARGET:.2f}"
+        f" {'ok' if ratio >= CHAIN_TARGET else 'BELOW TARGET'}"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=3, help="timed runs per controller (best counts)")
-    ap.add_argument("--only", choices=[*sorted(TARGETS), "explore"], help="one part only")
+    ap.add_argument("--only", choices=[*sorted(TARGETS), "chain", "explore"], help="one part only")
     ap.add_argument("--profile", action="store_true", help="profile one tour with pyinstrument")
     args = ap.parse_args(argv)
     controllers = [args.only] if args.only in TARGETS else [] if args.only else ["mppi", "rpp"]
@@ -279,6 +310,8 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         for c in controllers:
             bench(c, max(1, args.runs), Path(tmp))
+        if args.only in (None, "chain"):
+            bench_chain(max(1, args.runs), Path(tmp))
     if args.only in (None, "explore") and not args.profile:
         bench_explore(max(1, args.runs))
     return 0

@@ -126,7 +126,8 @@ def test_frames_prints_the_tree_and_checks_every_frame_the_params_name(capsys):
     out = capsys.readouterr().out
     assert out.startswith("map\n") and "laser" in out
     assert "local_costmap.local_costmap.global_frame = odom (line 244): ok" in out
-    assert "docking_server.base_frame = base_link (line 547): not checked" in out
+    assert "docking_server.base_frame = base_link (line 547): ok" in out
+    assert "loopback_simulator.base_frame_id = base_footprint (line 594): not checked" in out
     code = main(["frames", str(TOUR), "--set", "amcl.base_frame_id=base_foot"])
     captured = capsys.readouterr()
     assert code == 2

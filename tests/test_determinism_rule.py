@@ -4,7 +4,8 @@ numpy's CPU-dependent functions (core/fmath.py's docstring says why).
 glibc picks an FMA or a non-FMA variant of sin, cos, atan2, exp, log and their kin by
 CPU, numpy picks SIMD kernels by CPU, and `np.dot`/`np.matmul`/`np.einsum`/`np.convolve`
 sum in a BLAS order that depends on the CPU: one ulp there is a different run on another
-machine. btnav computes these with `btnav.core.fmath` instead. Drawing code never feeds
+machine. `math.hypot`'s extended-precision sum changes between CPython versions (3.12's
+uses an FMA). btnav computes these with `btnav.core.fmath` instead. Drawing code never feeds
 a trajectory, so `btnav/viz/` may use them. (The `@` operator is not checked: btnav's
 own `Pose2D @ Pose2D` composition is the usual meaning, and it cannot be told from
 numpy's matmul without running the code.)
@@ -22,7 +23,7 @@ CPU_DEPENDENT = {
     "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "arcsin", "arccos", "arctan",
     "arctan2", "sinh", "cosh", "tanh", "exp", "exp2", "expm1", "log", "log2", "log10",
     "log1p", "pow", "power", "dot", "matmul", "einsum", "convolve", "inner", "tensordot",
-    "vdot",
+    "vdot", "hypot",
 }  # fmt: skip
 MODULES = {"math", "np", "numpy"}
 #: Code that never reaches a trajectory or a plan: pictures and animations.

@@ -38,6 +38,7 @@ KINDS: tuple[str, ...] = (
     "critic",
     "motion_model",
     "costmap_layer",
+    "costmap_filter",
     "localizer",
     "slam",
     "sensor",
@@ -46,6 +47,11 @@ KINDS: tuple[str, ...] = (
     "navigator",
     "waypoint_task_executor",
     "output",
+    "charging_dock",
+    "edge_cost_function",
+    "route_operation",
+    "graph_file_loader",
+    "graph_file_saver",
 )
 
 ENTRY_POINT_GROUP = "btnav.plugins"

@@ -221,4 +221,3 @@ def test_server_without_a_params_file_uses_nav2s_defaults():
     assert runtime.action_client("wait").wait_for_server()
     # Nav2 gives a type only to its four default names: the fifth has none, and is skipped
     assert server.names == ["wait"] and server.not_implemented == ["assisted_teleop"]
-

@@ -37,6 +37,11 @@ def test_every_action_btnav_serves_has_a_table():
         "FollowWaypoints",
         "Explore",
         "Drive",
+        "AssistedTeleop",
+        "ComputeRoute",
+        "ComputeAndTrackRoute",
+        "DockRobot",
+        "UndockRobot",
     }
     for table in ERROR_CODES.values():
         assert table.NONE == 0

@@ -142,7 +142,7 @@ def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path, controller, see
 #: numpy kernel, no BLAS, no libm sin/cos/atan2/exp/log), so any x86-64 machine gives these
 #: bytes. If a change alters the trajectory on purpose, run this test, check the run
 #: still looks right and paste the new digest.
-SHORT_RUN_DIGEST = "b389c92a3555da2afa596a6a840a3dd3e887f02c31b5087d555d5195bee8c5db"
+SHORT_RUN_DIGEST = "c60dc5fb6ad852694118d2dbfdcbc4e98e6ec91c4244f73f6bca1e7d21931d94"
 
 SHORT_RUN = """
 import hashlib, sys

@@ -25,6 +25,12 @@ IMPLEMENTED = {
     "waypoint_follower",
     "velocity_smoother",
     "collision_monitor",
+    "docking_server",
+    "keepout_filter_mask_server",
+    "keepout_costmap_filter_info_server",
+    "speed_filter_mask_server",
+    "speed_costmap_filter_info_server",
+    "route_server",
 }
 
 
@@ -80,9 +86,9 @@ def test_check_main_succeeds_and_reports(nav2_params_file: Path, capsys) -> None
     assert "assisted_teleop -> nav2_behaviors::AssistedTeleop: btnav.behaviors" in out
     assert "FollowPath -> nav2_mppi_controller::MPPIController" in out
     assert "GridBased -> nav2_navfn_planner::NavfnPlanner" in out
-    assert "line 538: docking_server: Nav2's docking server" in out
+    assert "simple_charging_dock -> opennav_docking::SimpleChargingDock" in out
     assert "loopback_simulator" in out and "route_server" in out
-    assert out.rstrip().splitlines()[-1].startswith("OK: 13 servers")
+    assert out.rstrip().splitlines()[-1].startswith(f"OK: {len(IMPLEMENTED)} servers")
 
 
 def test_check_main_returns_2_with_one_line_on_a_mistake(nav2_copy, capsys) -> None:
@@ -99,17 +105,15 @@ def test_ignored_entries_are_listed_once_each(nav2) -> None:
     counts = Counter(e.key for e in nav2.ignored)
     assert [k for k, n in counts.items() if n > 1] == []
     by_key = {e.key: e for e in nav2.ignored}
-    assert by_key["docking_server"].line == 538
-    assert "simple_charging_dock" in by_key["docking_server"].keys
+    # nav2_params.yaml's docking controller writes simulation_step; Nav2 reads simulation_time_step
+    assert by_key["docking_server.controller.simulation_step"].line == 589
     assert by_key["controller_server.use_realtime_priority"].line == 104
     assert by_key["amcl.introspection_mode"].line == 34
     # Listed in neither plugins nor filters: Nav2 never loads it, and btnav says so.
     static = by_key["local_costmap.local_costmap.static_layer"]
     assert "not listed in plugins" in static.reason and static.line == 289
-    assert (
-        "costmap filters are not implemented"
-        in by_key["global_costmap.global_costmap.speed_filter"].reason
-    )
+    # Costmap filters are run: their sections are read, not listed as ignored.
+    assert "global_costmap.global_costmap.speed_filter" not in by_key
 
 
 def test_keys_left_at_defaults_are_not_listed(nav2) -> None:

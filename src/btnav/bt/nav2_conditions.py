@@ -9,7 +9,6 @@ ticked here (py_trees' INVALID): GoalUpdated and DistanceTraveled start over the
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from typing import Any, ClassVar
 
@@ -122,7 +121,7 @@ class GoalReached(Nav2Leaf):
         robot = self.robot_pose(frame or self.global_frame)
         if robot is None:
             return F
-        return _status(math.hypot(pose.x - robot.x, pose.y - robot.y) <= self.GOAL_REACHED_TOL)
+        return _status(fmath.hypot(pose.x - robot.x, pose.y - robot.y) <= self.GOAL_REACHED_TOL)
 
 
 @register("bt_node", "ArePosesNear")
@@ -150,7 +149,7 @@ class ArePosesNear(Nav2Leaf):
             if pa is None or pb is None:
                 return F
         tol = self.get_input("tolerance")
-        return _status(math.hypot(pa.x - pb.x, pa.y - pb.y) <= tol)
+        return _status(fmath.hypot(pa.x - pb.x, pa.y - pb.y) <= tol)
 
 
 @register("bt_node", "IsGoalNearby")
@@ -383,7 +382,7 @@ class DistanceTraveled(Nav2Leaf):
         if pose is None:
             return F
         start = self.start_pose or Pose2D()
-        if math.hypot(pose.x - start.x, pose.y - start.y) < self.get_input("distance"):
+        if fmath.hypot(pose.x - start.x, pose.y - start.y) < self.get_input("distance"):
             return F
         self.start_pose = pose
         return S

@@ -164,7 +164,7 @@ class RemovePassedGoals(Nav2Leaf):
         radius = self.get_input("radius")
         while len(goals) > 1:
             pose, _ = pose_of(goals[0])
-            if math.hypot(pose.x - robot.x, pose.y - robot.y) > radius:
+            if fmath.hypot(pose.x - robot.x, pose.y - robot.y) > radius:
                 break
             if statuses is not None:
                 index = _matching_status(statuses, goals[0])

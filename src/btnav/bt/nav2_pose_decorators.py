@@ -8,13 +8,13 @@ return RUNNING, as Nav2's `return status()` does.
 
 from __future__ import annotations
 
-import math
 from typing import Any, ClassVar
 
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
+from ..core import fmath
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path
@@ -87,7 +87,7 @@ class DistanceController(Nav2Decorator):
         pose = self.robot_pose()
         if pose is None or self.start_pose is None:
             return F
-        travelled = math.hypot(pose.x - self.start_pose.x, pose.y - self.start_pose.y)
+        travelled = fmath.hypot(pose.x - self.start_pose.x, pose.y - self.start_pose.y)
         if self.first_time or self.decorated.status == R or travelled >= self.get_input("distance"):
             self.first_time = False
             status = self.tick_child()
@@ -136,7 +136,7 @@ class SpeedController(Nav2Decorator):
         odom = getattr(self.runtime, "latest_odom", None)
         if odom is None:
             return 0.0
-        return math.hypot(odom.twist.linear_x, odom.twist.linear_y)
+        return fmath.hypot(odom.twist.linear_x, odom.twist.linear_y)
 
     def tick_decorated(self) -> Status:
         if self.get_input("min_rate") <= 0.0 or self.get_input("max_rate") <= 0.0:

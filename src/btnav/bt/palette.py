@@ -43,6 +43,7 @@ from ..core.messages import (
     TrackingFeedback,
     Twist,
 )
+from ..core.nav2_route_msgs import Route
 from ..core.suggest import best_match
 from .registry import check_node_class, node_category, node_types
 
@@ -106,6 +107,7 @@ _TYPE_NAMES: dict[Any, str] = {
     Odometry: "nav_msgs::msg::Odometry",
     LaserScan: "sensor_msgs::msg::LaserScan",
     TrackingFeedback: "nav2_msgs::msg::TrackingFeedback",
+    Route: "nav2_msgs::msg::Route",
 }
 
 #: A stamped pose absorbs the bare one btnav also accepts (read in the default frame).
@@ -127,6 +129,16 @@ _NAV2_PORT_TYPES: dict[tuple[str, Any], str] = {
     ("input_waypoint_statuses", list): _STATUSES,
     ("output_waypoint_statuses", list): _STATUSES,
     ("tracking_feedback", object): "nav2_msgs::msg::TrackingFeedback",
+    ("start_id", int): "unsigned int",
+    ("goal_id", int): "unsigned int",
+    ("last_node_id", int): "uint16",
+    ("next_node_id", int): "uint16",
+    ("current_edge_id", int): "uint16",
+    ("planning_time", float): "builtin_interfaces::msg::Duration",
+    ("execution_duration", float): "builtin_interfaces::msg::Duration",
+    ("max_staging_time", float): "float",
+    ("max_undocking_time", float): "float",
+    ("num_retries", int): "uint16",
 }
 
 

@@ -149,7 +149,7 @@ class StoppedGoalChecker(SimpleGoalChecker):
             return False
         return (
             abs(velocity.angular_z) <= self.params.rot_stopped_velocity
-            and math.hypot(velocity.linear_x, velocity.linear_y)
+            and fmath.hypot(velocity.linear_x, velocity.linear_y)
             <= self.params.trans_stopped_velocity
         )
 

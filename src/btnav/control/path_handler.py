@@ -293,7 +293,8 @@ class FeasiblePathHandler(PathHandler):
         if self._constrained and self.constraint_locale:
             last = self.plan_up_to_constraint[-1]
             near = (
-                math.hypot(pose.x - last[0], pose.y - last[1]) <= self.params.inversion_xy_tolerance
+                fmath.hypot(pose.x - last[0], pose.y - last[1])
+                <= self.params.inversion_xy_tolerance
             )
             if near and abs(angle_diff(pose.yaw, last[2])) <= self.params.inversion_yaw_tolerance:
                 g = self.global_plan

@@ -277,7 +277,7 @@ class RegulatedPurePursuitController(Controller):
             angular = linear * curvature
 
         if p.use_collision_detection:
-            carrot_dist = math.hypot(carrot_x, carrot_y)
+            carrot_dist = fmath.hypot(carrot_x, carrot_y)
             if self._collision_imminent(pose, linear, angular, carrot_dist, length, costmap):
                 raise NoValidControl("RegulatedPurePursuitController detected collision ahead!")
         return Twist(linear_x=float(linear), angular_z=float(angular))
@@ -330,7 +330,7 @@ class RegulatedPurePursuitController(Controller):
         if length is None:
             length = path_length(local)
         if length < p.approach_velocity_scaling_dist:
-            scale = math.hypot(local[-1, 0], local[-1, 1]) / p.approach_velocity_scaling_dist
+            scale = fmath.hypot(local[-1, 0], local[-1, 1]) / p.approach_velocity_scaling_dist
             v = min(v, max(v * scale, p.min_approach_linear_velocity))
         return min(max(abs(v), 0.0), self.max_linear_vel)
 

@@ -139,6 +139,57 @@ class AssistedTeleopError(NavErrorCode):
     TF_ERROR = 732
 
 
+class ComputeRouteError(NavErrorCode):
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    INVALID_EDGE_SCORER_USE = 407
+
+
+class ComputeAndTrackRouteError(NavErrorCode):
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    OPERATION_FAILED = 406
+    INVALID_EDGE_SCORER_USE = 407
+
+
+class DockRobotError(NavErrorCode):
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    DOCK_NOT_IN_DB = 901
+    DOCK_NOT_VALID = 902
+    FAILED_TO_STAGE = 903
+    FAILED_TO_DETECT_DOCK = 904
+    FAILED_TO_CONTROL = 905
+    FAILED_TO_CHARGE = 906
+    TIMEOUT = 907
+    UNKNOWN = 999
+
+
+class UndockRobotError(NavErrorCode):
+    NONE = 0
+    GOAL_REJECTED = 1
+    SEND_GOAL_FAILURE = 2
+    DOCK_NOT_VALID = 902
+    FAILED_TO_CONTROL = 905
+    TIMEOUT = 907
+    UNKNOWN = 999
+
+
 class WaitError(NavErrorCode):
     NONE = 0
     GOAL_REJECTED = 1
@@ -206,6 +257,10 @@ ERROR_CODES: dict[str, type[NavErrorCode]] = {
         FollowWaypointsError,
         ExploreError,
         DriveError,
+        ComputeRouteError,
+        ComputeAndTrackRouteError,
+        DockRobotError,
+        UndockRobotError,
     )
 }
 
@@ -239,6 +294,17 @@ _MESSAGES: dict[str, str] = {
     "NO_VALID_WAYPOINTS": "no waypoints were given",
     "STOP_ON_MISSED_WAYPOINT": "a waypoint was missed and stop_on_failure is set",
     "FAILED_TO_LOAD_BEHAVIOR_TREE": "the behaviour tree could not be loaded",
+    "NO_VALID_ROUTE": "no route on the graph joins the start and the goal",
+    "NO_VALID_GRAPH": "no route graph is loaded, or an edge has no usable cost",
+    "INDETERMINANT_NODES_ON_GRAPH": "no graph node could be found near the start or the goal",
+    "INVALID_EDGE_SCORER_USE": "an edge scorer needs a request by poses",
+    "OPERATION_FAILED": "a route operation failed while tracking",
+    "DOCK_NOT_IN_DB": "the dock_id is not in the docking server's dock database",
+    "DOCK_NOT_VALID": "no dock plugin of that dock_type (or nothing known to undock from)",
+    "FAILED_TO_STAGE": "the robot did not reach the dock's staging pose",
+    "FAILED_TO_DETECT_DOCK": "the dock was not detected (no fresh detected_dock_pose)",
+    "FAILED_TO_CONTROL": "the docking controller could not drive the robot to its target",
+    "FAILED_TO_CHARGE": "the robot is on the dock but charging did not start",
 }
 
 

@@ -134,7 +134,7 @@ class Pose2D:
         return out
 
     def distance_to(self, other: Pose2D) -> float:
-        return math.hypot(other.x - self.x, other.y - self.y)
+        return fmath.hypot(other.x - self.x, other.y - self.y)
 
     def __iter__(self):  # allows `x, y, yaw = pose`
         return iter((self.x, self.y, self.yaw))

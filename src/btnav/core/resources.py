@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-BUNDLED_KINDS = ("trees", "worlds", "maps", "params", "missions", "robots")
+BUNDLED_KINDS = ("trees", "worlds", "maps", "params", "missions", "robots", "graphs")
 
 _PKG = Path(__file__).resolve().parents[1]
 

@@ -4,7 +4,8 @@
 params section, updated at `update_frequency` from the robot pose, scans and the frame
 tree, with the clear-costmap services and dynamic parameters. It treats every layer
 alike, through `Layer`'s hooks (a new map, a new scan, `is_current`, `reset`): a
-user's layer gets what a built-in one gets.
+user's layer gets what a built-in one gets. The sections its `filters` list names are
+costmap filters (`costmap.filters`), run after the layers.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from ..params.costmap import CostmapParams
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.schema import field_named_list, validate_section
 from .costmap_2d import Costmap2D
+from .filters.costmap_filter import CostmapFilter
 from .inflation_layer import InflationLayer, inflation_cost
 from .layer import Layer, Window
 from .layered_costmap import LayeredCostmap, robot_footprint
@@ -70,6 +72,7 @@ class CostmapROS:
         *,
         map: OccupancyGrid | None = None,
         params_file: ParamsFile | None = None,
+        filters: Iterable[CostmapFilter] = (),
     ) -> None:
         self.name = name
         self.params = params if params is not None else CostmapParams()
@@ -78,6 +81,8 @@ class CostmapROS:
         self.layered.set_footprint(robot_footprint(self.params))
         for layer in layers:
             self.layered.add_layer(layer)
+        for costmap_filter in filters:
+            self.layered.add_filter(costmap_filter)
         self.last_robot_pose: Pose2D | None = None
         self.last_update: float | None = None
         self.map: OccupancyGrid | None = None
@@ -92,9 +97,17 @@ class CostmapROS:
         *,
         map: OccupancyGrid | None = None,
     ) -> CostmapROS:
-        """The costmap `name` of a loaded params file, its layers in `plugins` order."""
+        """The costmap `name` of a loaded params file, its layers in `plugins` order and
+        its filters in `filters` order."""
         server = params.server(name)
-        return cls(name, server.model, _layers_of(server), map=map, params_file=params)
+        return cls(
+            name,
+            server.model,
+            _layers_of(server),
+            map=map,
+            params_file=params,
+            filters=_filters_of(server),
+        )
 
     # -- what users read --------------------------------------------------------------------
 
@@ -116,6 +129,13 @@ class CostmapROS:
 
     def layer(self, name: str) -> Layer:
         return self.layered.layer(name)
+
+    @property
+    def filters(self) -> list[CostmapFilter]:
+        return self.layered.filters
+
+    def filter(self, name: str) -> CostmapFilter:
+        return self.layered.filter(name)
 
     @property
     def footprint(self) -> NDArray[np.float64]:
@@ -167,7 +187,9 @@ class CostmapROS:
         return frame_tree.lookup(self.global_frame, self.robot_base_frame)
 
     def is_current(self, now: float) -> bool:
-        return all(layer.is_current(now) for layer in self.layers if layer.enabled)
+        return all(
+            layer.is_current(now) for layer in [*self.layers, *self.filters] if layer.enabled
+        )
 
     # -- inputs ---------------------------------------------------------------------------
 
@@ -283,7 +305,8 @@ class CostmapROS:
             self._apply(server.model, {n: p.params for n, p in server.plugins.items()})
             return
         own: dict[str, Any] = _as_section(self.params)
-        sections = {layer.name: _as_section(layer.params) for layer in self.layers}
+        plugins = [*self.layers, *self.filters]
+        sections = {layer.name: _as_section(layer.params) for layer in plugins}
         for key, value in changes.items():
             parts = key.split(".")
             if parts[0] in sections and len(parts) > 1:
@@ -295,7 +318,7 @@ class CostmapROS:
             layer.name: validate_section(
                 type(layer).Params, sections[layer.name], key_prefix=[self.name, layer.name]
             )
-            for layer in self.layers
+            for layer in plugins
         }
         self._apply(model, layer_params)
 
@@ -316,7 +339,7 @@ class CostmapROS:
             if self.map is not None and not self.layered.rolling_window:
                 self.set_map(self.map)
         self.layered.set_footprint(robot_footprint(model))
-        for layer in self.layers:
+        for layer in [*self.layers, *self.filters]:
             new = layer_params.get(layer.name)
             if new is not None and new != layer.params:
                 layer.set_params(new)
@@ -335,3 +358,12 @@ def _layers_of(server: ServerParams) -> list[Layer]:
             continue
         out.append(section.cls(section.name, section.params))
     return out
+
+
+def _filters_of(server: ServerParams) -> list[CostmapFilter]:
+    """Filter instances for a costmap's `filters`, in list order."""
+    return [
+        section.cls(section.name, section.params)
+        for section in server.plugins.values()
+        if section.list_key == "filters" and section.cls is not None
+    ]

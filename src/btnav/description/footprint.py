@@ -126,7 +126,7 @@ def _thin(hull: np.ndarray, tol: float = MESH_TOLERANCE) -> np.ndarray:
     if n <= 4:
         return hull
     keep = np.zeros(n, dtype=bool)
-    far = int(np.argmax(np.hypot(*(hull - hull[0]).T)))
+    far = int(np.argmax(fmath.hypot(*(hull - hull[0]).T)))
     keep[[0, far]] = True
     chains = [(0, far), (far, n)]  # index n is point 0 again
     closed = np.concatenate([hull, hull[:1]])
@@ -137,7 +137,7 @@ def _thin(hull: np.ndarray, tol: float = MESH_TOLERANCE) -> np.ndarray:
         p, q = closed[a], closed[b]
         mid = closed[a + 1 : b]
         d = q - p
-        dist = np.abs(d[0] * (mid[:, 1] - p[1]) - d[1] * (mid[:, 0] - p[0])) / np.hypot(*d)
+        dist = np.abs(d[0] * (mid[:, 1] - p[1]) - d[1] * (mid[:, 0] - p[0])) / fmath.hypot(*d)
         i = int(np.argmax(dist))
         if dist[i] > tol:
             k = a + 1 + i

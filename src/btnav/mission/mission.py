@@ -30,7 +30,7 @@ from ..localization.amcl.odometry_match import odometry_note
 from ..maps.map_io import load_map
 from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
 from ..navigators.navigator import BasicNavigator
-from ..params.loader import ROS_PARAMETERS, load_params
+from ..params.loader import ROS_PARAMETERS
 from ..params.paramsfile import ParamsFile
 from ..params.updates import _override_target, apply_overrides
 from ..plugins import is_registered, load_plugins, names
@@ -40,6 +40,7 @@ from ..sim.world_spec import WorldSpec, load_world_spec
 from .errors import MissionError
 from .outputs import OUTPUT_NEEDS, check_outputs
 from .param_frames import check_frames
+from .route_graph import with_route_graph
 from .spec import (
     MissionSpec,
     builds_map,
@@ -49,6 +50,7 @@ from .spec import (
     resolve,
     set_by,
 )
+from .zones import load_zoned_params, with_zone_masks
 
 N = TypeVar("N", bound=BasicNavigator)
 
@@ -59,6 +61,7 @@ TASK_ACTION = {
     "navigate_through_poses": "NavigateThroughPoses",
     "explore": "Explore",
     "drive": "",  # teleop: no tree
+    "dock": "NavigateToPose",  # the docking server's trip to the staging pose
 }
 
 
@@ -74,7 +77,7 @@ def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[
     return mission, params
 
 
-_FILE_KEYS = ("world", "params", "map", "tree")
+_FILE_KEYS = ("world", "params", "map", "tree", "route_graph", "keepout_mask", "speed_mask")
 
 
 def _from_cwd(key: str, value: Any) -> Any:
@@ -172,10 +175,18 @@ class Mission:
             else bundled_dir("params") / "nav2_params.yaml"
         )
         strict = f"strict_params: true in {file}" if spec.strict_params else None
-        params = load_params(params_path, strict=strict)
+        params = load_zoned_params(spec, params_path, strict=strict)
         if params_over:
             params, params_set = _override_params(params, params_over, given)
             changed.update(params_set)
+        params = with_zone_masks(spec, base, params, where)
+        params = with_route_graph(spec, base, params, where)
+        if spec.task.kind == "dock" and "docking_server" not in params:
+            raise MissionError(
+                f"a dock task needs the docking_server, and {params_path} has no "
+                "docking_server section (Nav2's nav2_params.yaml has one)",
+                **where("task", "dock"),
+            )
 
         map_file = None
         if spec.map is not None:

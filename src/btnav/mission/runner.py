@@ -42,6 +42,16 @@ def start_task(nav: BasicNavigator, mission: Mission) -> bool:
     if mission.task == "drive":
         drive = task.drive
         return drive is not None and nav.drive(drive.commands, assisted=drive.assisted)
+    dock = task.dock
+    if mission.task == "dock" and dock is not None:
+        if dock.dock_id is not None:
+            return nav.dock_robot_by_id(
+                dock.dock_id, dock.navigate_to_staging_pose, dock.max_staging_time
+            )
+        assert dock.dock_pose is not None  # the spec asks for one of the two
+        return nav.dock_robot_by_pose(
+            dock.dock_pose, dock.dock_type, dock.navigate_to_staging_pose, dock.max_staging_time
+        )
     poses = [Pose2D(*p) for p in task.poses]
     if mission.task == "navigate_to_pose":
         return nav.go_to_pose(poses[0])

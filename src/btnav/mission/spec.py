@@ -105,6 +105,24 @@ class DriveTask(StrictModel):
         return {"commands": value} if isinstance(value, list) else value
 
 
+class DockTask(StrictModel):
+    """`task: {dock: {dock_id: home_dock}}`: nav2_simple_commander's dockRobotByID, or with
+    `dock_pose` (and `dock_type`) its dockRobotByPose. The docking server drives to the
+    dock's staging pose first (NavigateToPose) unless `navigate_to_staging_pose` is false."""
+
+    dock_id: str | None = Field(None, min_length=1)
+    dock_pose: Pose | None = None
+    dock_type: str = ""
+    navigate_to_staging_pose: bool = True
+    max_staging_time: float = Field(1000.0, gt=0.0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _id_or_pose(self) -> DockTask:
+        if (self.dock_id is None) == (self.dock_pose is None):
+            raise ValueError("a dock task gives dock_id (a dock of the database) or dock_pose")
+        return self
+
+
 class TaskSpec(StrictModel):
     """Exactly one task."""
 
@@ -113,6 +131,7 @@ class TaskSpec(StrictModel):
     follow_waypoints: Poses | None = None
     explore: ExploreTask | None = None
     drive: DriveTask | None = None
+    dock: DockTask | None = None
 
     @model_validator(mode="before")
     @classmethod
@@ -130,7 +149,7 @@ class TaskSpec(StrictModel):
         if len(given) != 1:
             raise ValueError(
                 "a task is exactly one of navigate_to_pose, navigate_through_poses, "
-                f"follow_waypoints, explore, drive (got {', '.join(given) or 'none'})"
+                f"follow_waypoints, explore, drive, dock (got {', '.join(given) or 'none'})"
             )
         return self
 
@@ -179,6 +198,17 @@ class MissionSpec(StrictModel):
     #: A params key Nav2 skips (a ROS 1 name, an older distribution's, a BT port) is an
     #: error instead of a warning, as `btnav params check --strict` makes it.
     strict_params: bool = False
+    #: nav2_bringup's zone launch arguments: `use_keepout_zones` / `use_speed_zones` write
+    #: true into the params file's KEEPOUT_ZONE_ENABLED / SPEED_ZONE_ENABLED (the filters'
+    #: `enabled`); `keepout_mask` / `speed_mask` (map_server YAMLs, relative to the mission)
+    #: are the masks the zone's mask server serves, over its `yaml_filename`.
+    use_keepout_zones: bool = False
+    use_speed_zones: bool = False
+    keepout_mask: str | None = None
+    speed_mask: str | None = None
+    #: nav2_bringup's `graph` launch argument: the route graph (Nav2's GeoJSON, relative to
+    #: the mission) route_server loads, written into the params as its `graph_filepath`.
+    route_graph: str | None = None
 
 
 def mission_place(key: str) -> str:

@@ -20,6 +20,7 @@ from typing import TextIO
 
 import numpy as np
 
+from ..core import fmath
 from ..core.geometry import normalize_angle
 from ..nav.runtime import Runtime, Stage
 
@@ -78,7 +79,7 @@ class TrajectoryRecorder:
         odom = rt.latest_odom.pose
         cmd = rt.cmd_vel
         if self._last_xy is not None:
-            self.path_length += math.hypot(gt.x - self._last_xy[0], gt.y - self._last_xy[1])
+            self.path_length += fmath.hypot(gt.x - self._last_xy[0], gt.y - self._last_xy[1])
         self._last_xy = (gt.x, gt.y)
         err_sq = (est.x - gt.x) ** 2 + (est.y - gt.y) ** 2
         self._sum_sq_xy += err_sq

@@ -29,12 +29,12 @@ their state (Nav2's `updateGlobalPath`), the goal checker is reset.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
 from ..control.exceptions import ControllerException, NoValidControl
+from ..core import fmath
 from ..core.error_codes import FollowPathError, NavResult
 from ..core.errors import FrameError
 from ..core.frames import MAP
@@ -200,7 +200,7 @@ class ControllerServer(PluginServer):
             current_path_index=index,
             robot_pose=pose_in_plan,
             distance_to_goal=self.local_plan.length() if self.local_plan is not None else 0.0,
-            speed=math.hypot(velocity.linear_x, velocity.linear_y),
+            speed=fmath.hypot(velocity.linear_x, velocity.linear_y),
             remaining_path_length=remaining,
             frame_id=plan.frame_id or MAP,
         )
@@ -242,7 +242,7 @@ class ControllerServer(PluginServer):
         if (
             fed is not None
             and self._fed_plan is self.path_handler.global_plan
-            and math.hypot(fed.x - plan_to_costmap.x, fed.y - plan_to_costmap.y) < _REPLAN_XY
+            and fmath.hypot(fed.x - plan_to_costmap.x, fed.y - plan_to_costmap.y) < _REPLAN_XY
             and abs(angle_diff(fed.yaw, plan_to_costmap.yaw)) < _REPLAN_YAW
         ):
             return

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..costmap.cost_values import NO_INFORMATION
 from ..exploration.frontier_search import Frontier, find_frontiers
@@ -118,7 +119,7 @@ class ExploreServer:
     def _goal_stands(self, robot: Pose2D, now: float) -> bool:
         """The goal is not reached, and the robot got closer to it within progress_timeout."""
         assert self.goal is not None
-        away = math.hypot(self.goal.x - robot.x, self.goal.y - robot.y)
+        away = fmath.hypot(self.goal.x - robot.x, self.goal.y - robot.y)
         if away < self._best_distance - PROGRESS_STEP:
             self._best_distance, self._progress_at = away, now
         elif now - self._progress_at > self.params.progress_timeout:

@@ -9,8 +9,6 @@ Vectorised over the window's segments.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..core import fmath
@@ -46,7 +44,7 @@ class PathTracker:
         if len(path) == 1:
             x, y, yaw = poses[0]
             heading = float(normalize_angle(pose.yaw - yaw))
-            return 0, math.hypot(pose.x - x, pose.y - y), heading, 0.0
+            return 0, fmath.hypot(pose.x - x, pose.y - y), heading, 0.0
         start = min(self._index, len(path) - 2)
         # the segments starting within search_dist (along the path) of the last closest one
         along = self._along

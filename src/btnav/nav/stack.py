@@ -27,11 +27,15 @@ from ..params.loader import load_params
 from ..params.paramsfile import ParamsFile, ServerParams
 from ..params.updates import validate_update
 from .behavior_server import BehaviorServer
+from .collision_monitor_server import CollisionDetectorServer, CollisionMonitorServer
 from .controller_server import ControllerServer
+from .costmap_filter_servers import bring_up_costmap_filters
 from .costmap_server import CostmapServer
+from .docking_server import DockingServer
 from .explore_server import ExploreServer
 from .map_server import MapServer
 from .planner_server import PlannerServer
+from .route_server import bring_up_route_server
 from .runtime import Runtime
 from .smoother_server import SmootherServer
 from .velocity_smoother import VelocitySmoother
@@ -63,6 +67,7 @@ class NavStack:
         self.explore_server = explore_server
         #: The command chain's servers, when the params file brings them up.
         self.velocity_smoother: VelocitySmoother | None = None
+        self.collision_monitor: CollisionMonitorServer | None = None
         #: Servers by their params-file name, for set_parameters.
         self.servers: dict[str, Any] = {
             "global_costmap": global_costmap,
@@ -123,19 +128,41 @@ class NavStack:
         )
         # The servers Nav2's launch brings up beside these, each only when the params
         # file has its section (a file without one runs as before), in launch order.
+        bring_up_costmap_filters(stack)
+        bring_up_route_server(stack)
         stack.bring_up_cmd_vel_chain()
+        if "docking_server" in pf:  # its cmd_vel goes to the base, not down the chain
+            docking = DockingServer(
+                runtime, pf.server("docking_server"), local_costmap, base_dir=pf.path.parent
+            )
+            stack.add_server("docking_server", runtime.add(docking))
         return stack
 
     def bring_up_cmd_vel_chain(self) -> None:
         """nav2_bringup's command chain: the servers' `cmd_vel_nav` -> velocity_smoother ->
-        `cmd_vel_smoothed` -> the base. Added after the servers, the smoother ticks in the
-        step a command is sent."""
+        `cmd_vel_smoothed` -> collision_monitor -> the base's `cmd_vel`, each stage only
+        when its section is in the file. The smoother is added after the servers, so it
+        ticks in the step a command is sent; the monitor acts on each command it gets.
+        collision_detector watches its zones beside the chain and never acts."""
         runtime, pf = self.runtime, self.params
         to_base = runtime.command_base
+        if "collision_monitor" in pf:
+            monitor = CollisionMonitorServer(
+                runtime, pf.server("collision_monitor"), self.local_costmap, publish=to_base
+            )
+            self.collision_monitor = self.add_server("collision_monitor", monitor)
+            to_base = monitor.command_received
         if "velocity_smoother" in pf:
             smoother = VelocitySmoother(runtime, pf.server("velocity_smoother"), publish=to_base)
             self.velocity_smoother = self.add_server("velocity_smoother", runtime.add(smoother))
             runtime.route_cmd_vel(smoother.command_received)
+        else:
+            runtime.route_cmd_vel(to_base)
+        if "collision_detector" in pf:
+            detector = CollisionDetectorServer(
+                runtime, pf.server("collision_detector"), self.local_costmap
+            )
+            self.add_server("collision_detector", runtime.add(detector))
 
     def add_server(self, name: str, server: Any) -> Any:
         """Keep an optional server under its params-file name (for set_parameters); returns it."""
@@ -161,6 +188,10 @@ class NavStack:
         out.update(self.global_costmap.services())
         out.update(self.local_costmap.services())
         out["map_server/load_map"] = self.map_server.load_map
+        for name in ("collision_monitor", "route_server"):
+            server = self.servers.get(name)
+            if server is not None:
+                out.update(server.services())
         out.update(self.explore_server.services())
         localizer = self.runtime.localizer
         for name in ("reinitialize_global_localization", "request_nomotion_update"):

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable
+from math import fsum
 
 from ..core.messages import Odometry, Twist
 from ..params.paramsfile import ServerParams
@@ -96,11 +97,11 @@ class VelocitySmoother:
         """What the command is smoothed from: the last command, or the odometry's mean."""
         if self.params.model.feedback == "OPEN_LOOP" or not self._odom:
             return self.last_cmd
-        n = len(self._odom)
+        n = len(self._odom)  # fsum: correctly rounded, the same on every Python
         return Twist(
-            linear_x=sum(o.twist.linear_x for o in self._odom) / n,
-            linear_y=sum(o.twist.linear_y for o in self._odom) / n,
-            angular_z=sum(o.twist.angular_z for o in self._odom) / n,
+            linear_x=fsum(o.twist.linear_x for o in self._odom) / n,
+            linear_y=fsum(o.twist.linear_y for o in self._odom) / n,
+            angular_z=fsum(o.twist.angular_z for o in self._odom) / n,
         )
 
     def update(self, now: float) -> None:

@@ -33,6 +33,7 @@ from ..bt import load_tree
 from ..bt.base import R, S
 from ..bt.bundled import find_tree
 from ..bt.nav2_context import RECOVERIES_KEY
+from ..core import fmath
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
 from ..core.errors import FrameError, PluginError
 from ..core.geometry import Pose2D
@@ -237,7 +238,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
         twist = rt.latest_odom.twist
-        speed = math.hypot(twist.linear_x, twist.linear_y)
+        speed = fmath.hypot(twist.linear_x, twist.linear_y)
         eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
         recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)  # recovery_count()
         time = now - self.start_time
@@ -265,7 +266,7 @@ class BehaviorTreeNavigator(ActionServer[Any]):
             goal = getattr(goal, "pose", goal)
             if goal is None or not hasattr(goal, "x"):
                 return 0.0
-            return math.hypot(goal.x - pose.x, goal.y - pose.y)
+            return fmath.hypot(goal.x - pose.x, goal.y - pose.y)
         return progress.remaining(path, pose.x, pose.y)
 
     @property

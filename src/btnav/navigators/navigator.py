@@ -27,7 +27,8 @@ from typing import Any, Self
 
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
-from ..core.messages import Path
+from ..core.messages import Path, Twist
+from ..core.nav2_docking_msgs import DockRobotGoal, UndockRobotGoal
 from ..core.nav2_msgs import (
     BackUpGoal,
     ComputePathToPoseGoal,
@@ -174,6 +175,41 @@ class BasicNavigator:
         goal = DriveGoal([tuple(map(float, c)) for c in commands], assisted=assisted)
         return self._send("drive", goal)
 
+    def dock_robot_by_id(
+        self,
+        dock_id: str,
+        navigate_to_staging_pose: bool = True,
+        max_staging_time: float = 1000.0,
+    ) -> bool:
+        """DockRobot at a dock of the docking server's database (dockRobotByID)."""
+        goal = DockRobotGoal(
+            dock_id=dock_id,
+            navigate_to_staging_pose=navigate_to_staging_pose,
+            max_staging_time=max_staging_time,
+        )
+        return self._send("dock_robot", goal)
+
+    def dock_robot_by_pose(
+        self,
+        dock_pose: PoseArg,
+        dock_type: str = "",
+        navigate_to_staging_pose: bool = True,
+        max_staging_time: float = 1000.0,
+    ) -> bool:
+        """DockRobot at a dock given by its pose in map and plugin type (dockRobotByPose)."""
+        goal = DockRobotGoal(
+            use_dock_id=False,
+            dock_pose=_pose(dock_pose),
+            dock_type=dock_type,
+            navigate_to_staging_pose=navigate_to_staging_pose,
+            max_staging_time=max_staging_time,
+        )
+        return self._send("dock_robot", goal)
+
+    def undock_robot(self, dock_type: str = "") -> bool:
+        """UndockRobot from the dock the robot is on (undockRobot)."""
+        return self._send("undock_robot", UndockRobotGoal(dock_type=dock_type))
+
     def spin(self, spin_dist: float = 1.57, time_allowance: float = 10.0) -> bool:
         return self._send("spin", SpinGoal(spin_dist, time_allowance))
 
@@ -198,12 +234,15 @@ class BasicNavigator:
         return self.handle.result if self.handle is not None and self.handle.done else None
 
     def cancel_task(self, timeout: float = 5.0) -> bool:
-        """Cancel the running task and step until the server has ended it."""
+        """Cancel the running task and step until the server has ended it and the base has
+        stopped (with a velocity smoother the base ramps down after the server's zero)."""
         h = self.handle
         if h is None or h.done:
             return False
         h.cancel()
-        return self.runtime.run_until(lambda: h.done, timeout)
+        ended = self.runtime.run_until(lambda: h.done, timeout)
+        self.runtime.run_until(lambda: self.runtime.cmd_vel == Twist(), timeout)
+        return ended
 
     def wait_until_done(
         self, timeout: float = 300.0, poll: Callable[[], None] | None = None

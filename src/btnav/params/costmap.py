@@ -1,7 +1,7 @@
 """Server-level keys of Nav2's costmaps (local_costmap, global_costmap: one node type).
 
 Layer sections (`inflation_layer:`, ...) are plugin sections named by `plugins`;
-filter sections by `filters` (costmap filters are not implemented: ignored).
+filter sections by `filters` (costmap filters: `btnav.costmap.filters`).
 """
 
 from __future__ import annotations

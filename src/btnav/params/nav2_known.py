@@ -1,7 +1,7 @@
 """What btnav knows of Nav2 without implementing it: plugin types, nodes, legacy names.
 
 A params file written for Nav2 names many things btnav does not (yet) run: a
-docking server, a keepout filter. Knowing their names lets btnav tell "not
+following server, a vector object server. Knowing their names lets btnav tell "not
 implemented yet" (the file is fine, the key is listed as ignored) apart from a
 typo (an error with the closest spelling). Names Nav2 itself no longer reads are
 in `legacy_keys`. The names below are the
@@ -16,7 +16,6 @@ import fnmatch
 from ..plugins import canonical
 
 #: Nav2's plugin type names per btnav plugin kind (`pkg::Class`; `pkg/Class` is the same).
-#: `costmap_filter` is not a registry kind: costmap filters are not implemented at all.
 NAV2_PLUGIN_TYPES: dict[str, tuple[str, ...]] = {
     "planner": (
         "nav2_navfn_planner::NavfnPlanner",
@@ -81,6 +80,29 @@ NAV2_PLUGIN_TYPES: dict[str, tuple[str, ...]] = {
         "nav2_bt_navigator::NavigateToPoseNavigator",
         "nav2_bt_navigator::NavigateThroughPosesNavigator",
     ),
+    "charging_dock": (
+        "opennav_docking::SimpleChargingDock",
+        "opennav_docking::SimpleNonChargingDock",
+    ),
+    "edge_cost_function": (
+        "nav2_route::DistanceScorer",
+        "nav2_route::CostmapScorer",
+        "nav2_route::TimeScorer",
+        "nav2_route::PenaltyScorer",
+        "nav2_route::SemanticScorer",
+        "nav2_route::GoalOrientationScorer",
+        "nav2_route::StartPoseOrientationScorer",
+        "nav2_route::DynamicEdgesScorer",
+    ),
+    "route_operation": (
+        "nav2_route::AdjustSpeedLimit",
+        "nav2_route::ReroutingService",
+        "nav2_route::CollisionMonitor",
+        "nav2_route::TimeMarker",
+        "nav2_route::TriggerEvent",
+    ),
+    "graph_file_loader": ("nav2_route::GeoJsonGraphFileLoader",),
+    "graph_file_saver": ("nav2_route::GeoJsonGraphFileSaver",),
     "waypoint_task_executor": (
         "nav2_waypoint_follower::WaitAtWaypoint",
         "nav2_waypoint_follower::PhotoAtWaypoint",
@@ -98,27 +120,19 @@ _KNOWN_CANONICAL: dict[str, dict[str, str]] = {
     kind: {canonical(t): t for t in types} for kind, types in NAV2_PLUGIN_TYPES.items()
 }
 
-_FILTERS = "costmap filters (keepout, speed, binary) are not implemented yet"
+_OTHER_ZONE_SERVER = (
+    "a costmap filter server under a name of its own: btnav runs the names Nav2's launch "
+    "files give them (keepout_filter_mask_server, speed_costmap_filter_info_server, ...)"
+)
 _LIFECYCLE = "btnav starts and stops every server itself: there is no lifecycle manager"
 _OLD_HELPER = "a helper node of older Nav2 releases; current Nav2 and btnav read the server itself"
 
 #: Nodes a Nav2 params file configures that btnav knows but does not run, and why.
 NAV2_KNOWN_NODES: dict[str, str] = {
-    "docking_server": "Nav2's docking server (opennav_docking) is not implemented yet",
     "following_server": "Nav2's following server (opennav_following) is not implemented yet",
-    "route_server": "Nav2's route server (graph routing) is not implemented yet",
     "vector_object_server": "Nav2's vector object server is not implemented yet",
-    "collision_detector": "Nav2's collision detector is not implemented yet",
     "loopback_simulator": "btnav's own simulator (world YAML) replaces Nav2's loopback simulator",
     "robot_state_publisher": "btnav's frame tree comes from the world file's robot and sensors",
-    "costmap_filter_info_server": _FILTERS,
-    "filter_mask_server": _FILTERS,
-    "keepout_filter_mask_server": _FILTERS,
-    "keepout_costmap_filter_info_server": _FILTERS,
-    "speed_filter_mask_server": _FILTERS,
-    "speed_costmap_filter_info_server": _FILTERS,
-    "binary_filter_mask_server": _FILTERS,
-    "binary_costmap_filter_info_server": _FILTERS,
     "lifecycle_manager": _LIFECYCLE,
     "lifecycle_manager_navigation": _LIFECYCLE,
     "lifecycle_manager_localization": _LIFECYCLE,
@@ -135,8 +149,8 @@ NAV2_KNOWN_NODE_PATTERNS: dict[str, str] = {
     "*_rclcpp_node": _OLD_HELPER,
     "*_costmap_client": _OLD_HELPER,
     "amcl_map_client": _OLD_HELPER,
-    "*_filter_mask_server": _FILTERS,
-    "*_costmap_filter_info_server": _FILTERS,
+    "*_filter_mask_server": _OTHER_ZONE_SERVER,
+    "*_costmap_filter_info_server": _OTHER_ZONE_SERVER,
 }
 
 

@@ -80,7 +80,7 @@ class ControllerServerParams(NodeParams):
     goal_checker_plugins: Names = ["goal_checker"]
     controller_plugins: Names = ["FollowPath"]
     path_handler_plugins: Names = ["PathHandler"]
-    speed_limit_topic: str = ignored("speed_limit", Why.TOPIC)
+    speed_limit_topic: str = Field("speed_limit", min_length=1)
     odom_topic: str = ignored("odom", Why.TOPIC)
     use_realtime_priority: bool = ignored(False, Why.REALTIME)
 

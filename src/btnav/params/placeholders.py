@@ -4,8 +4,13 @@
   bundled trees folder plays that part, so the placeholder (and a following
   `/behavior_trees`, Nav2's folder inside that package) resolves to
   `bundled_dir("trees")`. Other packages' `$(find-pkg-share X)` stay as written.
-- All-caps tokens such as `KEEPOUT_ZONE_ENABLED` are left as they are: they are
-  accepted only inside sections btnav ignores (`schema` explains the error elsewhere).
+- nav2_bringup's launch arguments `use_keepout_zones` and `use_speed_zones` are
+  written into the file as `KEEPOUT_ZONE_ENABLED` and `SPEED_ZONE_ENABLED` (RewrittenYaml's
+  value_rewrites). Inside the sections a costmap's `filters` list names, where Nav2's
+  file puts them, a mission rewrites them to its `use_keepout_zones` / `use_speed_zones`
+  before loading (`rewrite_launch_tokens`); left in the file, they read as false.
+- Other all-caps tokens are left as they are: they are accepted only inside sections
+  btnav ignores (`schema` explains the error elsewhere).
 """
 
 from __future__ import annotations
@@ -26,7 +31,63 @@ _FIND_PKG_SHARE = re.compile(
 #: Packages whose share folder btnav provides, and the folder standing in for it.
 PACKAGE_SHARES: dict[str, Callable[[], str]] = {
     "nav2_bt_navigator": lambda: str(bundled_dir("trees")),
+    "nav2_route": lambda: str(bundled_dir("graphs").parent),  # $(...)/graphs/<name>.geojson
 }
+
+
+#: nav2_bringup's launch tokens (RewrittenYaml value_rewrites) -> the mission key giving each.
+LAUNCH_TOKENS: dict[str, str] = {
+    "KEEPOUT_ZONE_ENABLED": "use_keepout_zones",
+    "SPEED_ZONE_ENABLED": "use_speed_zones",
+}
+
+
+def rewrite_launch_tokens(
+    node: Any, values: Mapping[str, bool], path: list[str | int] | None = None
+) -> list[Placeholder]:
+    """A whole params document's launch tokens, as RewrittenYaml writes a launch's values
+    in (`{"KEEPOUT_ZONE_ENABLED": True}`; a token not given is false); in place."""
+    found: list[Placeholder] = []
+    where: list[str | int] = [] if path is None else path
+    if isinstance(node, Mapping):
+        _resolve_launch_tokens(node, where, found, values)
+        for key, value in node.items():
+            found += rewrite_launch_tokens(value, values, [*where, key])
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            found += rewrite_launch_tokens(value, values, [*where, i])
+    return found
+
+
+def _resolve_launch_tokens(
+    doc: Mapping[Any, Any],
+    path: list[str | int],
+    found: list[Placeholder],
+    values: Mapping[str, bool],
+) -> None:
+    """The launch tokens of the filter sections a costmap's `filters` list names, resolved."""
+    names = doc.get("filters")
+    if not isinstance(names, list):
+        return
+    shown = [p for p in path if p != "ros__parameters"]
+    for name in names:
+        section = doc.get(name) if isinstance(name, str) else None
+        if not isinstance(section, Mapping):
+            continue
+        for key, value in section.items():
+            if not (isinstance(value, str) and value in LAUNCH_TOKENS):
+                continue
+            resolved = bool(values.get(value, False))
+            section[key] = resolved  # type: ignore[index]
+            found.append(
+                Placeholder(
+                    key=format_key_path([*shown, name, key]) or "",
+                    line=line_of(section, key),
+                    text=value,
+                    resolved=f"{str(resolved).lower()} (a mission's {LAUNCH_TOKENS[value]}, "
+                    "false by default)",
+                )
+            )
 
 
 def resolve_text(text: str) -> str:
@@ -42,6 +103,7 @@ def resolve_text(text: str) -> str:
 def resolve_placeholders(node: Any, path: list[str | int], found: list[Placeholder]) -> Any:
     """Resolve placeholders in a tree btnav owns (in place); note each one in `found`."""
     if isinstance(node, Mapping):
+        _resolve_launch_tokens(node, path, found, {})
         for key in list(node):
             node[key] = _resolve_child(node, key, [*path, key], found)  # type: ignore[index]
     elif isinstance(node, list):

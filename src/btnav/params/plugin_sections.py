@@ -160,17 +160,13 @@ def resolve_plugin(
     )
     ignored = []
     if body:
-        why = (
-            "costmap filters are not implemented yet"
-            if not plist.implemented
-            else (f"{class_name(type_name)} is not implemented yet, so its keys are not read")
-        )
+        why = f"{class_name(type_name)} is not implemented yet, so its keys are not read"
         ignored.append(entry(list(key_path), line, why, file, body))
     return found, ignored
 
 
 def _registered(plist: PluginList, type_name: str) -> type | None:
-    """The registered class for `type_name`, or None (costmap filters are never registered)."""
+    """The registered class for `type_name`, or None (a kind btnav does not implement)."""
     if not plist.implemented:
         return None
     registry.load_entry_points()

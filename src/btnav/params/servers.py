@@ -12,8 +12,16 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from .collision_detector import CollisionDetectorParams
 from .collision_monitor import CollisionMonitorParams
 from .costmap import CostmapParams
+from .costmap_filters import (
+    FILTER_INFO_SERVERS,
+    FILTER_MASK_SERVERS,
+    CostmapFilterInfoServerParams,
+    FilterMaskServerParams,
+)
+from .docking import DockingServerParams
 from .explore import ExploreParams
 from .localization import AmclParams, SlamToolboxParams
 from .map_io import MapSaverParams, MapServerParams
@@ -27,6 +35,7 @@ from .navigation import (
     WaypointFollowerParams,
 )
 from .node import NodeParams
+from .route import RouteServerParams
 
 
 @dataclass(frozen=True)
@@ -41,7 +50,7 @@ class PluginList:
     single: bool = False
     #: Nav2 declares the default types whatever the list holds (waypoint_follower).
     always_default_types: bool = False
-    #: False: btnav has no such plugins at all (costmap filters); sections are ignored.
+    #: False: btnav has no such plugins at all; sections are ignored.
     implemented: bool = True
 
 
@@ -70,7 +79,7 @@ _COSTMAP_LISTS = (
             "inflation_layer": "nav2_costmap_2d::InflationLayer",
         },
     ),
-    PluginList("filters", "costmap_filter", implemented=False),
+    PluginList("filters", "costmap_filter"),
 )
 
 SERVERS: dict[str, ServerSpec] = {
@@ -172,7 +181,49 @@ SERVERS: dict[str, ServerSpec] = {
         ),
         ServerSpec("velocity_smoother", VelocitySmootherParams),
         ServerSpec("collision_monitor", CollisionMonitorParams),
+        ServerSpec("collision_detector", CollisionDetectorParams),
         ServerSpec("slam_toolbox", SlamToolboxParams),
         ServerSpec("explore", ExploreParams),
+        ServerSpec(
+            "docking_server",
+            DockingServerParams,
+            (PluginList("dock_plugins", "charging_dock"),),
+        ),
+        ServerSpec(
+            "route_server",
+            RouteServerParams,
+            (
+                PluginList(
+                    "edge_cost_functions",
+                    "edge_cost_function",
+                    {
+                        "DistanceScorer": "nav2_route::DistanceScorer",
+                        "DynamicEdgesScorer": "nav2_route::DynamicEdgesScorer",
+                    },
+                ),
+                PluginList(
+                    "operations",
+                    "route_operation",
+                    {
+                        "AdjustSpeedLimit": "nav2_route::AdjustSpeedLimit",
+                        "ReroutingService": "nav2_route::ReroutingService",
+                    },
+                ),
+                PluginList(
+                    "graph_file_loader",
+                    "graph_file_loader",
+                    {"GeoJsonGraphFileLoader": "nav2_route::GeoJsonGraphFileLoader"},
+                    single=True,
+                ),
+                PluginList(
+                    "graph_file_saver",
+                    "graph_file_saver",
+                    {"GeoJsonGraphFileSaver": "nav2_route::GeoJsonGraphFileSaver"},
+                    single=True,
+                ),
+            ),
+        ),
+        *(ServerSpec(name, FilterMaskServerParams) for name in FILTER_MASK_SERVERS),
+        *(ServerSpec(name, CostmapFilterInfoServerParams) for name in FILTER_INFO_SERVERS),
     )
 }

@@ -190,7 +190,7 @@ def _shape(
     if c == 0:  # parallel: a straight, if the point is on line 1 ahead of the origin
         if _cross(px, py, ux, uy) != 0 or px * ux + py * uy <= 0:
             return None
-        length = math.hypot(*end_point)
+        length = fmath.hypot(*end_point)
         return _Shape(
             start, end, end_point, 0.0, True, end_point, end_point, (0.0, 0.0), 0.0, length, 0.0
         )
@@ -308,7 +308,7 @@ class _Quadrant:
             return False
         near = cfg.trajectory_distinctness_ratio * shape.length
         for qx, qy in self._by_heading.get(end, ()):
-            if math.hypot(px - qx, py - qy) * res < near:
+            if fmath.hypot(px - qx, py - qy) * res < near:
                 return False
         if len(self._ends) and self._passes_a_kept_end(_sample(shape, self.h, 0.1 * res)):
             return False

@@ -255,7 +255,7 @@ def compute_potential(
     src = start[1] * nx + start[0]
     dst = goal[1] * nx + goal[0]
     _check(cancel_checker)
-    straight = COST_NEUTRAL * math.hypot(goal[0] - start[0], goal[1] - start[1])
+    straight = COST_NEUTRAL * fmath.hypot(goal[0] - start[0], goal[1] - start[1])
     # A step never adds more than this, so no reached cell lies beyond the bound by more.
     max_step = 2.0 * COST_OBS * SQRT2
     h = None
@@ -373,7 +373,7 @@ def _gradients(
                     gy += up - cv
                 if dn < POT_HIGH:
                     gy += cv - dn
-            norm = math.hypot(gx, gy)
+            norm = fmath.hypot(gx, gy)
             g = (gx / norm, gy / norm) if norm > 0 else (0.0, 0.0)
         grads[n] = g
         return g
@@ -455,7 +455,7 @@ def _descend(
         y = (1 - dy) * ((1 - dx) * g00[1] + dx * g10[1]) + dy * ((1 - dx) * g01[1] + dx * g11[1])
         if x == 0.0 and y == 0.0:
             return None
-        ss = PATH_STEP / math.hypot(x, y)
+        ss = PATH_STEP / fmath.hypot(x, y)
         dx += x * ss
         dy += y * ss
         if dx > 1.0:

@@ -408,7 +408,7 @@ class StraightLine:
 
     @property
     def length(self) -> float:
-        return math.hypot(self.dx, self.dy) + 0.5 * abs(self.turn)
+        return fmath.hypot(self.dx, self.dy) + 0.5 * abs(self.turn)
 
     @property
     def lengths(self) -> tuple[float, ...]:
@@ -468,7 +468,9 @@ class AnalyticExpansion:
         """A valid curve to the goal as poses (the start left out) and its number of
         direction changes, or None."""
         # A curve is never shorter than the straight line: most nodes are too far to try.
-        if math.hypot(pose[0] - goal[0], pose[1] - goal[1]) > self.max_length * (1 + _LENGTH_SLACK):
+        if fmath.hypot(pose[0] - goal[0], pose[1] - goal[1]) > self.max_length * (
+            1 + _LENGTH_SLACK
+        ):
             return None
         curve = self.curve(pose, goal)
         if curve is None or curve.length > self.max_length:
@@ -699,7 +701,7 @@ def smooth_path(
 def max_curvature(poses: NDArray[np.float64]) -> float:
     """The sharpest turn along a path: |heading change| / distance between samples."""
     d = np.diff(poses[:, :2], axis=0)
-    ds = np.hypot(d[:, 0], d[:, 1])
+    ds = fmath.hypot(d[:, 0], d[:, 1])
     turn = np.abs((np.diff(poses[:, 2]) + np.pi) % (2.0 * np.pi) - np.pi)
     moved = ds > 1e-9
     return float(np.max(turn[moved] / ds[moved], initial=0.0))

@@ -169,7 +169,7 @@ def search(
     pushes = 1  # equal f: first queued, first expanded
     best_h, best = math.inf, -1  # the queued cell closest to the goal
     iterations = approach = 0
-    hypot, push, pop = math.hypot, heapq.heappush, heapq.heappop
+    sqrt, push, pop = math.sqrt, heapq.heappush, heapq.heappop
 
     def cells_to(node: int) -> NDArray[np.int64]:
         chain = [node]
@@ -201,7 +201,7 @@ def search(
                 g[v] = g_v
                 parent[v] = u
                 y, x = divmod(v, w)
-                h = hypot(x - hx, y - hy)
+                h = sqrt((x - hx) * (x - hx) + (y - hy) * (y - hy))
                 if h < best_h:
                     best_h, best = h, v
                 push(queue, (g_v + h, pushes, v))

@@ -97,7 +97,7 @@ class Primitives:
         angle = increments * bin_size
         s, c = fmath.sincos(angle)
         dx, dy = radius * s, radius - radius * c
-        chord = math.hypot(dx, dy)
+        chord = fmath.hypot(dx, dy)
         prims: list[tuple[float, float, int, int]] = [
             (chord, 0.0, 0, FORWARD),
             (dx, dy, increments, LEFT),
@@ -119,10 +119,10 @@ class Primitives:
         self.lengths = []
         for x, y, t, _ in prims:
             if t == 0:
-                self.lengths.append(math.hypot(x, y))
+                self.lengths.append(fmath.hypot(x, y))
             else:
                 arc = abs(t) * bin_size
-                self.lengths.append(math.hypot(x, y) / (2.0 * fmath.sin(arc / 2.0)) * arc)
+                self.lengths.append(fmath.hypot(x, y) / (2.0 * fmath.sin(arc / 2.0)) * arc)
         heading = np.arange(bins) * bin_size
         sh, ch = fmath.sincos(heading)
         px = np.array([p[0] for p in prims])

@@ -50,6 +50,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, field_validator, model_validator
 
+from ..core import fmath
 from ..core.errors import BtnavError, BtnavWarning
 from ..core.geometry import Pose2D
 from ..core.messages import Path
@@ -294,7 +295,7 @@ class _MotionTable:
         checks = []
         last = (math.inf, math.inf)
         for (x, y, _), pose in zip(prim.poses.tolist(), poses, strict=True):
-            if math.hypot(x - last[0], y - last[1]) > diag:
+            if fmath.hypot(x - last[0], y - last[1]) > diag:
                 last = (x, y)
                 checks.append(pose)
         checks.append((poses[-1][0], poses[-1][1], lattice.heading_angles[end]))

@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
 
+from ..core import fmath
 from ..core.geometry import Pose2D
 from ..core.messages import Path
 from ..costmap.cost_values import FREE_SPACE, LETHAL_OBSTACLE, MAX_NON_OBSTACLE, NO_INFORMATION
@@ -145,14 +146,15 @@ class ThetaStar:
         w_euc, w_h = p.w_euc_cost, min(p.w_euc_cost, 1.0)
         gy, gx = divmod(dst, w)
         moves = [
-            (dx + dy * w, w_euc * math.hypot(dx, dy)) for dx, dy in MOVES[: p.how_many_corners]
+            (dx + dy * w, w_euc * math.sqrt(dx * dx + dy * dy))
+            for dx, dy in MOVES[: p.how_many_corners]
         ]
-        hypot, push, pop = math.hypot, heapq.heappush, heapq.heappop
+        sqrt, push, pop = math.sqrt, heapq.heappush, heapq.heappop
         interval = p.terminal_checking_interval
 
         g[src] = enter[cells[src]]
         y, x = divmod(src, w)
-        h[src] = w_h * hypot(x - gx, y - gy)
+        h[src] = w_h * sqrt((x - gx) * (x - gx) + (y - gy) * (y - gy))
         f[src] = g[src] + h[src]
         parent[src] = src
         heap: list[tuple[float, int, int]] = []
@@ -169,7 +171,7 @@ class ThetaStar:
             if los >= 0:
                 y0, x0 = divmod(u, w)
                 y1, x1 = divmod(grand, w)
-                g_los = g[grand] + w_euc * hypot(x1 - x0, y1 - y0) + los
+                g_los = g[grand] + w_euc * sqrt((x1 - x0) * (x1 - x0) + (y1 - y0) * (y1 - y0)) + los
                 if g_los < g[u]:
                     parent[u], g[u], f[u] = grand, g_los, g_los + h[u]
             if u == dst:
@@ -182,7 +184,7 @@ class ThetaStar:
                 if g_v == math.inf:
                     continue
                 vy, vx = divmod(v, w)
-                h_v = w_h * hypot(vx - gx, vy - gy)
+                h_v = w_h * sqrt((vx - gx) * (vx - gx) + (vy - gy) * (vy - gy))
                 if f[v] > g_v + h_v:
                     g[v], h[v], f[v], parent[v] = g_v, h_v, g_v + h_v, u
                     queued[v] = 1
@@ -207,7 +209,7 @@ def interpolate(points: NDArray[np.float64], step: float) -> NDArray[np.float64]
     """Nav2's linearInterpolation: each segment from its first point in `step`s (a last
     partial step is left out), then the last point (which Nav2 leaves out)."""
     d = np.diff(points, axis=0)
-    dist = np.hypot(d[:, 0], d[:, 1])
+    dist = fmath.hypot(d[:, 0], d[:, 1])
     counts = np.maximum((dist / step).astype(np.int64), 1)
     seg = np.repeat(np.arange(len(d)), counts)
     k = np.arange(len(seg)) - np.repeat(np.cumsum(counts) - counts, counts)

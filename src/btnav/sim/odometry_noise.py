@@ -62,7 +62,7 @@ def decompose(dx: float, dy: float, dyaw: float) -> tuple[float, float, float]:
     smaller of rot1 and rot1 - pi for the same reason), so reversing is not read
     as two half turns.
     """
-    trans = math.hypot(dx, dy)
+    trans = fmath.hypot(dx, dy)
     if dx < 0.0:
         trans = -trans
         rot1 = fmath.arctan2(-dy, -dx)
@@ -111,7 +111,7 @@ class OmniNoise(OdometryNoise):
     ) -> Pose:
         dx, dy, rot = motion
         a1, a2, a3, a4, a5 = (float(a) for a in (*alphas, 0.0)[:5])
-        trans, r = math.hypot(dx, dy), abs(rot)
+        trans, r = fmath.hypot(dx, dy), abs(rot)
         st = math.sqrt(a3 * trans + a4 * r)
         sr = math.sqrt(a1 * r + a2 * trans)
         ss = math.sqrt(a4 * r + a5 * trans)

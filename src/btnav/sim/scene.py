@@ -140,7 +140,7 @@ def wall_pieces(wall: WallSpec) -> tuple[list[Array], Array]:
     rects: list[Array] = []
     for a, b in itertools.pairwise(pts):
         d = b - a
-        n = np.array([-d[1], d[0]]) * (half / math.hypot(d[0], d[1]))
+        n = np.array([-d[1], d[0]]) * (half / fmath.hypot(d[0], d[1]))
         rects.append(np.array([a - n, b - n, b + n, a + n]))  # counter-clockwise
     closed = len(pts) > 2 and np.array_equal(pts[0], pts[-1])
     joints = pts[1:-1] if not closed else pts[:-1]

@@ -34,7 +34,6 @@ robot: {description: ../robots/turtlebot3_burger.urdf.xacro}
 from __future__ import annotations
 
 import copy
-import math
 import os
 import warnings
 from collections.abc import Sequence
@@ -231,7 +230,7 @@ def _free_start(spec: WorldSpec) -> tuple[float, float, float]:
     grid = rasterize(spec, 0.05, padding=0.0)
     fp = spec.robot.footprint
     corners = fp.polygon or []
-    reach = fp.radius if fp.radius is not None else max(math.hypot(x, y) for x, y in corners)
+    reach = fp.radius if fp.radius is not None else max(fmath.hypot(x, y) for x, y in corners)
     room = distance_transform_edt(grid.data == FREE) * grid.resolution > reach + START_CLEARANCE
     (row, col) = grid.world_to_cell([(0.0, 0.0)])[0]
     if not room.any() or (grid.in_bounds(np.array([row, col])) and room[row, col]):

@@ -19,6 +19,7 @@ from ..core.clock import NS_PER_S
 from ..core.errors import WorldError
 from ..core.geometry import Pose2D
 from ..core.messages import Twist
+from .docks import dock_solids
 from .drive import make_drive, set_velocity
 from .geometry import Geometry
 from .moving import Route
@@ -102,7 +103,14 @@ class World:
         space.iterations = 20
         self.space = space
 
-        self.solids: list[Solid] = build_solids(spec)
+        self.solids: list[Solid] = build_solids(spec) + dock_solids(spec)
+        #: The solids that are docks (index -> dock name): touching one is docking, not a
+        #: collision, so it is neither counted in `collisions` nor listed in `contacts`.
+        self.dock_solids = {
+            i: spec.docks[int(s.key[1])].name
+            for i, s in enumerate(self.solids)
+            if s.key[0] == "docks"
+        }
         self._owner: dict[pymunk.Shape, int] = {}
         self._movers: list[_Mover] = []
         for index, solid in enumerate(self.solids):
@@ -211,7 +219,7 @@ class World:
         if index is None:
             return
         n = self._touching.get(index, 0)
-        if n == 0:  # a new contact with this wall or obstacle
+        if n == 0 and index not in self.dock_solids:  # a new contact with a wall or obstacle
             self.collisions += 1
             self.contacts.append(self._contact(index))
         self._touching[index] = n + 1
@@ -223,6 +231,8 @@ class World:
             hit, kind = "obstacle", self.spec.obstacles[i].kind
         elif what == "walls":
             hit, kind = "wall", "polyline"
+        elif what == "added_obstacles":  # add_box while running: not in the world file
+            hit, kind = "obstacle", "box"
         else:  # a world made from a map image
             hit, kind = "map", "map cells"
         return Contact(
@@ -248,6 +258,11 @@ class World:
         a, b = arbiter.shapes
         other = b if a.collision_type == ROBOT_COLLISION_TYPE else a
         return self._owner.get(other)
+
+    @property
+    def touching_docks(self) -> list[str]:
+        """The names of the docks the robot touches right now."""
+        return [self.dock_solids[i] for i in self._touching if i in self.dock_solids]
 
     @property
     def in_contact(self) -> bool:
@@ -306,6 +321,40 @@ class World:
         if not self._touching:  # nothing pushed it: the velocity set in the last step
             return self.robot.last_control
         return self.robot.twist
+
+    # -- changing the scene while it runs -----------------------------------------------
+
+    def add_box(
+        self, center: tuple[float, float], size: tuple[float, float], yaw: float = 0.0
+    ) -> int:
+        """Put a static box into the world now (an obstacle dropped in the robot's way);
+        returns its solid index. Sensors see it from their next measurement. It is not in
+        the world file: a contact with it is `added_obstacles[k] (box)` with no line. A
+        box that would overlap the robot is refused (ValueError)."""
+        from .scene import box_corners
+
+        if not (size[0] > 0 and size[1] > 0):
+            raise ValueError(f"a box's size must be positive, got {size}")
+        k = sum(1 for s in self.solids if s.key[0] == "added_obstacles")
+        origin = np.array([float(center[0]), float(center[1])])
+        corners = box_corners((float(center[0]), float(center[1])), size, yaw) - origin
+        solid = Solid(
+            f"added_obstacles[{k}] (box)", ("added_obstacles", k), origin, [corners], [corners]
+        )
+        index = len(self.solids)
+        self.solids.append(solid)
+        self._add_solid(index, solid)
+        new = [s for s, i in self._owner.items() if i == index]
+        if any(info.shape in new for r in self.robot.shapes for info in self.space.shape_query(r)):
+            self.space.remove(*new)
+            for s in new:
+                del self._owner[s]
+            self.solids.pop()
+            raise ValueError(f"a box at {tuple(center)} would overlap the robot")
+        self._static_geometry = solids_geometry([s for s in self.solids if s.moves is None])
+        _ = self._static_geometry.segments
+        self._geometry = None  # the merged geometry with moving obstacles is built anew
+        return index
 
     # -- what sensors and maps see ------------------------------------------------------
 

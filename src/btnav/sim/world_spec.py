@@ -25,6 +25,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, PrivateAttr, field_validator, model_validator
 
+from ..core import fmath
 from ..core.errors import BtnavError, BtnavWarning, WorldError
 from ..core.suggest import best_match
 from ..core.validation import StrictModel, validate
@@ -32,6 +33,7 @@ from ..core.yaml_io import YamlMap, file_of, line_at, load_yaml, load_yaml_text
 from ..description import ModelPaths, PackagePaths, RobotDescription, load_description
 from ..maps import load_map
 from ..maps.occupied_rectangles import occupied_rectangles
+from .dock_spec import Docks
 
 #: Coordinates beyond this (metres) are a mistake, not a building; it also keeps
 #: pymunk and the rasteriser away from float overflow.
@@ -286,7 +288,7 @@ class FootprintSpec(StrictModel):
         if v is None:
             return v
         pts = check_polygon(v)
-        if max(math.hypot(x, y) for x, y in pts) > 100.0:
+        if max(fmath.hypot(x, y) for x, y in pts) > 100.0:
             raise ValueError("a footprint vertex is more than 100 m from the robot's centre")
         if abs(signed_area(np.array(pts))) < 1e-4:
             raise ValueError("the footprint polygon is smaller than 1 cm^2")
@@ -626,6 +628,8 @@ class WorldSpec(StrictModel):
     walls: list[WallEntry] = Field(default_factory=list)
     obstacles: list[ObstacleEntry] = Field(default_factory=list)
     robot: RobotSpec
+    #: Docks (`{name, type, pose}`): a static body each, and what a dock detector sees.
+    docks: Docks = Field(default_factory=list)
 
     _doc: Any = PrivateAttr(default=None)
     _file: str | None = PrivateAttr(default=None)
@@ -729,7 +733,7 @@ def _point_segment_distance(p: Vec, a: Vec, b: Vec) -> float:
     length2 = dx * dx + dy * dy
     t = 0.0 if length2 == 0.0 else ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2
     t = min(1.0, max(0.0, t))
-    return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
+    return fmath.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
 
 
 def _segments_cross(a: Vec, b: Vec, c: Vec, d: Vec) -> bool:

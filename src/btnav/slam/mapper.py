@@ -53,7 +53,7 @@ F64 = NDArray[np.float64]
 #: matcher (+-0.25 m around the odometry's guess with slam_toolbox's defaults) cannot
 #: reach a pose the odometry misplaced by more: FR079's wheel odometry counts every
 #: reversal as forward travel (21 times, 0.5-1 m off between processed scans), and a
-#: match at the window's edge then bends the map (docs/architecture.md, FR079).
+#: match at the window's edge then bends the map (docs/decisions/0058-slam-benchmark-logs.md, FR079).
 RESCUE_BELOW_RESPONSE = 0.7
 #: ... and the wider search's match replaces it only when its response is higher by this.
 RESCUE_MARGIN = 0.1

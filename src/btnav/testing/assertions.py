@@ -21,6 +21,7 @@ from collections import Counter
 from collections.abc import Sequence
 from typing import Any
 
+from ..core import fmath
 from .records import (
     TASK_ACTION,
     ReportView,
@@ -207,7 +208,7 @@ def assert_within(
     track = read_trajectory(trajectory, which)
     if len(track.x) == 0:
         raise AssertionError(f"the trajectory is empty ({track.source})")
-    d = np.hypot(track.x - pose[0], track.y - pose[1])
+    d = fmath.hypot(track.x - pose[0], track.y - pose[1])
     near = d <= tol
     check_yaw = yaw_tol is not None and len(pose) >= 3 and track.yaw is not None
     if check_yaw:

@@ -171,7 +171,7 @@ def straight_path(poses: Sequence[Pose2D], stamp: float) -> Path:
     xy = np.array([(p.x, p.y) for p in poses], dtype=float)
     pieces = []
     for a, b in pairwise(xy):
-        n = max(int(np.ceil(np.hypot(*(b - a)) / PATH_STEP)), 1)
+        n = max(int(np.ceil(fmath.hypot(*(b - a)) / PATH_STEP)), 1)
         pieces.append(a + (b - a) * (np.arange(n)[:, None] / n))
     pts = np.vstack([*pieces, xy[-1:]]) if pieces else xy
     d = np.diff(pts, axis=0)

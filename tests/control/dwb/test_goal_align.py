@@ -77,7 +77,7 @@ def test_only_the_last_forward_point_must_be_on_the_grid():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="btnav goal_align.py:27-29,42-43 (with map_grid.py:63-77) switches GoalAlign off "
+    reason="btnav goal_align.py:27-29,42-43 (with map_grid.py:73-94, held until a new plan) switches GoalAlign off "
     "(scale 0, scores 0) within max(forward_point_distance, the planner's "
     "xy_goal_tolerance) of the goal; Nav2's GoalAlign has no such switch and keeps "
     "scoring up to the goal"
@@ -99,3 +99,17 @@ def test_still_on_near_the_goal(fpd, planner):
     assert prepare(c, Pose2D(2.85, 2.55, 0.0), line_plan(2.85, 2.55, 3.05, 2.55), cm)
     assert c.get_scale(cm) == 1.0
     assert c.score(trajectories([ending_at(2.95, 2.55, 0.0)]), cm).tolist() == [1.0]
+
+
+def test_the_goal_window_holds_until_a_new_plan_as_rotate_to_goal_s_does():
+    # The fishbot's last waypoint: in place at 0.2 m from the goal, turning to its yaw; AMCL
+    # moved the estimate 0.06 m out of the 0.25 m window. With the switch per cycle GoalAlign
+    # came back on (24 per cell) and turned the robot away from the yaw RotateToGoal
+    # (still "rotating") was turning it to, until the progress checker gave up.
+    cm = costmap()
+    c = critic(planner=DWBParams(xy_goal_tolerance=0.25), forward_point_distance=0.1)
+    plan = line_plan(2.85, 2.55, 3.05, 2.55)
+    assert prepare(c, Pose2D(2.85, 2.55, 0.0), plan, cm) and c.get_scale(cm) == 0.0
+    assert prepare(c, Pose2D(2.74, 2.55, 0.0), plan, cm) and c.get_scale(cm) == 0.0  # 0.31 m
+    c.reset()  # a new plan
+    assert prepare(c, Pose2D(2.74, 2.55, 0.0), plan, cm) and c.get_scale(cm) == 1.0

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
+from ...core import fmath
 from ...core.geometry import Pose2D
 from ...core.messages import Path, Twist
 from ...core.rng import stream
@@ -127,7 +127,7 @@ class MPPIController(Controller):
         if not self._has_plan:
             raise InvalidPath("MPPI: no path set")
         robot = np.array([pose.x, pose.y, pose.yaw], dtype=np.float64)
-        half_diag = 0.5 * math.hypot(*costmap.size_in_meters)
+        half_diag = 0.5 * fmath.hypot(*costmap.size_in_meters)
         path = self.pruner.local_path(robot, half_diag)
         goal = np.asarray(self.pruner.goal(), dtype=np.float64)
         speed = (float(velocity.linear_x), float(velocity.linear_y), float(velocity.angular_z))

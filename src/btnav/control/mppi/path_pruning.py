@@ -59,7 +59,7 @@ class PathPruner:
             cusp = plan[self.inversion]
             dyaw = abs((robot[2] - cusp[2] + math.pi) % (2 * math.pi) - math.pi)
             if (
-                math.hypot(robot[0] - cusp[0], robot[1] - cusp[1]) < self.xy_tol
+                fmath.hypot(robot[0] - cusp[0], robot[1] - cusp[1]) < self.xy_tol
                 and dyaw < self.yaw_tol
             ):
                 # Reached the cusp: continue on the rest of the plan.

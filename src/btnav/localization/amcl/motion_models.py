@@ -70,7 +70,7 @@ class DifferentialMotionModel(MotionModel):
     ) -> tuple[float, float, float, float, float, float]:
         """(rot1, trans, rot2) of the odometry delta and the std of the noise on each."""
         dx, dy, dyaw = delta
-        trans = math.hypot(dx, dy)
+        trans = fmath.hypot(dx, dy)
         old_yaw = pose[2] - dyaw
         rot1 = 0.0 if trans < 0.01 else normalize_angle(fmath.arctan2(dy, dx) - old_yaw)
         rot2 = normalize_angle(dyaw - rot1)
@@ -130,7 +130,7 @@ class OmniMotionModel(MotionModel):
         rng: np.random.Generator,
     ) -> F64:
         dx, dy, rot = delta
-        trans = math.hypot(dx, dy)
+        trans = fmath.hypot(dx, dy)
         st, sr, ss = self.stds(delta)
         old_yaw = pose[2] - rot
         bearing = normalize_angle(fmath.arctan2(dy, dx) - old_yaw) + poses[:, 2]

@@ -68,6 +68,7 @@ class MapGridCritic(TrajectoryCritic):
         super().__init__(*args, **kwargs)
         #: (ny, nx) Manhattan cells to the nearest seed (Nav2's cell_values_).
         self._cell_values: NDArray[np.int32] | None = None
+        self._in_goal_window = False
 
     def near_goal(self, pose, goal) -> bool:
         """Within the goal window where only the final yaw matters (the align critics' off switch).
@@ -77,13 +78,20 @@ class MapGridCritic(TrajectoryCritic):
         RotateToGoal allows only rotations. There, "point the nose at the path / at the goal
         point" is a different heading from the goal's yaw, and their score moves in whole cells
         (24 per cell for GoalAlign against RotateToGoal's 32 per radian), so it would hold the
-        robot short of the yaw tolerance, dithering as the plan's cells shift.
+        robot short of the yaw tolerance, dithering as the plan's cells shift. Once entered,
+        that window holds until a new plan, as RotateToGoal's does: a robot whose estimate
+        drifts a centimetre out while it turns in place is still turning to the goal's yaw
+        (with the switch per cycle, GoalAlign came back on then and turned it the wrong way).
         """
-        radius = max(
-            float(self.params.forward_point_distance),
-            float(getattr(self.planner, "xy_goal_tolerance", 0.0)),
-        )
-        return (pose.x - goal.x) ** 2 + (pose.y - goal.y) ** 2 <= radius * radius
+        d2 = (pose.x - goal.x) ** 2 + (pose.y - goal.y) ** 2
+        tolerance = float(getattr(self.planner, "xy_goal_tolerance", 0.0))
+        self._in_goal_window = self._in_goal_window or d2 <= tolerance * tolerance
+        ahead = float(self.params.forward_point_distance)
+        return self._in_goal_window or d2 <= ahead * ahead
+
+    def reset(self) -> None:
+        """A new plan: the goal window is left."""
+        self._in_goal_window = False
 
     def set_seeds(self, cells: NDArray[np.int64], costmap: Costmap2D) -> bool:
         """Flood the costmap's grid from `cells` (mx, my); False (prepare fails) if none."""

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from ....core import fmath
 from ....core.geometry import Pose2D
 from ....core.messages import Twist
 from ....costmap.cost_values import LETHAL_OBSTACLE
@@ -75,7 +76,7 @@ class ObstacleFootprintCritic(BaseObstacleCritic):
         the footprint's circumradius plus 1.92 cells (a vertex and the pose each lie within
         0.71 of their cell's centre, Bresenham's cells within 0.5 of the segment), and a margin."""
         assert self.footprint is not None
-        radius = float(np.hypot(self.footprint[:, 0], self.footprint[:, 1]).max())
+        radius = float(fmath.hypot(self.footprint[:, 0], self.footprint[:, 1]).max())
         return radius / costmap.resolution + 2.5
 
     @staticmethod

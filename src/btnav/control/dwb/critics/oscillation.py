@@ -11,10 +11,9 @@ once set forbids the other sign whatever the linear speed.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from ....core import fmath
 from ....core.geometry import angle_diff
 from ....plugins import register
 from ..critic import TrajectoryCritic
@@ -92,7 +91,7 @@ class OscillationCritic(TrajectoryCritic):
     def _reset_available(self, pose) -> bool:
         """Nav2's resetAvailable: a negative distance, angle or time disables that check."""
         p, since = self.params, self.prev_stationary
-        moved = math.hypot(pose.x - since.x, pose.y - since.y)
+        moved = fmath.hypot(pose.x - since.x, pose.y - since.y)
         if p.oscillation_reset_dist >= 0.0 and moved > p.oscillation_reset_dist:
             return True
         turned = abs(angle_diff(pose.yaw, since.yaw))

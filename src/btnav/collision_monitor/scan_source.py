@@ -1,0 +1,42 @@
+"""A laser scanner source (nav2_collision_monitor's Scan): the newest LaserScan's readings
+within [range_min, range_max] as points in the base frame.
+
+Nav2's scan source has no filters of its own: `min_height`, `max_height` and
+`min_range` are its pointcloud source's keys (a planar scan has one height, its
+mount's, and btnav's frames are 2D), so a scan source ignores them, as Nav2 does. The
+readings REP-117 marks (+inf nothing hit, -inf too close, NaN) fail the range test.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..core import fmath
+from ..core.geometry import Pose2D
+from ..core.messages import LaserScan
+from .source import Source
+
+
+class ScanSource(Source):
+    """`scan` source: `receive(scan)` is the subscription callback."""
+
+    scan: LaserScan | None = None
+    #: The scan's frame in odom when it arrived (base_shift_correction), else None.
+    _odom_pose: Pose2D | None = None
+
+    def receive(self, scan: LaserScan) -> None:
+        """Keep the newest scan, and where its frame was then (Nav2's dataCallback)."""
+        self.scan = scan
+        self._odom_pose = self.frames.at_arrival(scan.frame_id)
+
+    def source_data(self, now: float) -> NDArray[np.float64] | None:
+        scan = self.scan
+        if scan is None or not self.source_valid(scan.stamp, now):
+            return None
+        ranges = scan.ranges  # compared in float32, as Nav2 compares the message's floats
+        ok = (ranges >= np.float32(scan.range_min)) & (ranges <= np.float32(scan.range_max))
+        r = ranges[ok].astype(float)
+        s, c = fmath.sincos(scan.angles[ok])
+        local = np.stack([r * c, r * s], axis=-1)
+        return self.frames.to_base(scan.frame_id, self._odom_pose).transform_points(local)
