@@ -412,23 +412,28 @@ class DockingServer:
                 return None
         return self._docked(handle, run.dock)
 
-    def _reset_approach(
-        self, handle: GoalHandle[DockRobotGoal], run: _Docking, now: float
-    ) -> NavResult | None:
+    def _toward_staging(self, run: _Docking) -> tuple[bool, Twist]:
+        """Whether the robot is back at the staging pose (undocking's tolerances), and the
+        command that drives it there (the other way round from docking)."""
         assert run.staging_pose is not None
-        self._feedback(handle, DockingState.INITIAL_PERCEPTION, now)
         model = self.params.model
-        reached, cmd = self._command_to_pose(
+        return self._command_to_pose(
             run.staging_pose,
             model.undock_linear_tolerance,
             model.undock_angular_tolerance,
             is_docking=False,
             backward=not run.backward,
         )
+
+    def _reset_approach(
+        self, handle: GoalHandle[DockRobotGoal], run: _Docking, now: float
+    ) -> NavResult | None:
+        self._feedback(handle, DockingState.INITIAL_PERCEPTION, now)
+        reached, cmd = self._toward_staging(run)
         if reached:
             return self._begin_control(handle, run, now)
         self._publish(cmd)
-        if now - run.since > model.dock_approach_timeout:
+        if now - run.since > self.params.model.dock_approach_timeout:
             raise FailedToControl("Timed out resetting dock approach")
         return None
 
@@ -500,14 +505,7 @@ class DockingServer:
             raise FailedToControl("Undocking timed out")
         if plugin.is_charger and not plugin.disable_charging():
             return None
-        model = self.params.model
-        reached, cmd = self._command_to_pose(
-            run.staging_pose,
-            model.undock_linear_tolerance,
-            model.undock_angular_tolerance,
-            is_docking=False,
-            backward=not run.backward,
-        )
+        reached, cmd = self._toward_staging(run)
         if not reached:
             self._publish(cmd)
             return None
