@@ -26,17 +26,19 @@ class ScanSource(Source):
     _odom_pose: Pose2D | None = None
 
     def receive(self, scan: LaserScan) -> None:
-        """Keep the newest scan, and where its frame was then (Nav2's dataCallback)."""
+        """Keep the newest scan as points in its own frame (a scan arrives at the lidar's
+        rate, commands at the controller's: the points are made once), and where its frame
+        was then (Nav2's dataCallback)."""
         self.scan = scan
         self._odom_pose = self.frames.at_arrival(scan.frame_id)
+        ranges = scan.ranges  # compared in float32, as Nav2 compares the message's floats
+        ok = (ranges >= np.float32(scan.range_min)) & (ranges <= np.float32(scan.range_max))
+        r = ranges[ok].astype(float)
+        s, c = fmath.sincos(scan.angles[ok])
+        self._local = np.stack([r * c, r * s], axis=-1)
 
     def source_data(self, now: float) -> NDArray[np.float64] | None:
         scan = self.scan
         if scan is None or not self.source_valid(scan.stamp, now):
             return None
-        ranges = scan.ranges  # compared in float32, as Nav2 compares the message's floats
-        ok = (ranges >= np.float32(scan.range_min)) & (ranges <= np.float32(scan.range_max))
-        r = ranges[ok].astype(float)
-        s, c = fmath.sincos(scan.angles[ok])
-        local = np.stack([r * c, r * s], axis=-1)
-        return self.frames.to_base(scan.frame_id, self._odom_pose).transform_points(local)
+        return self.frames.to_base(scan.frame_id, self._odom_pose).transform_points(self._local)
