@@ -13,6 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 import yaml
 
@@ -274,3 +275,13 @@ def test_collision_detector_refuses_an_acting_polygon(tmp_path: Path) -> None:
     path.write_text(yaml.safe_dump(doc))
     with pytest.raises(ParamsError, match='must be "none"'):
         office(params=path)
+
+
+def test_new_params_keep_the_scan_the_sources_had(tmp_path: Path) -> None:
+    _world, rt, monitor, _speeds = monitored(params_file(tmp_path, stop_zone(0.5)))
+    rt.spin_for(0.3)
+    before = monitor.source("scan").source_data(rt.now)
+    assert before is not None and len(before) > 100
+    monitor.set_parameters(monitor.params)  # zones and sources rebuilt, as a live update does
+    after = monitor.source("scan").source_data(rt.now)
+    assert after is not None and np.array_equal(after, before)

@@ -24,6 +24,8 @@ class ScanSource(Source):
     scan: LaserScan | None = None
     #: The scan's frame in odom when it arrived (base_shift_correction), else None.
     _odom_pose: Pose2D | None = None
+    #: The scan's readings in range, as points in its own frame.
+    _local: NDArray[np.float64] = np.zeros((0, 2))
 
     def receive(self, scan: LaserScan) -> None:
         """Keep the newest scan as points in its own frame (a scan arrives at the lidar's
@@ -36,6 +38,11 @@ class ScanSource(Source):
         r = ranges[ok].astype(float)
         s, c = fmath.sincos(scan.angles[ok])
         self._local = np.stack([r * c, r * s], axis=-1)
+
+    def keep_scan_of(self, previous: ScanSource) -> None:
+        """Take over `previous`'s scan as it received it (a rebuild on new params)."""
+        self.scan, self._odom_pose = previous.scan, previous._odom_pose
+        self._local = previous._local
 
     def source_data(self, now: float) -> NDArray[np.float64] | None:
         scan = self.scan

@@ -89,7 +89,17 @@ class _ZonesAndSources:
         for source in self.sources:
             previous = old.get(source.name)
             if isinstance(source, ScanSource) and previous is not None:
-                source.scan, source._odom_pose = previous.scan, previous._odom_pose
+                source.keep_scan_of(previous)
+
+    def _start(self, params: ServerParams) -> None:
+        """Build from `params`, then take the runtime's latest scan (the one taken at the
+        start), so a source with a timeout has data from the first command on."""
+        self.set_parameters(params)
+        if self.runtime.latest_scan is not None:
+            self._scan_received(self.runtime.latest_scan)
+
+    def set_parameters(self, params: ServerParams) -> None:
+        raise NotImplementedError
 
     def _where(self, section: str, key: str) -> dict[str, Any]:
         doc = self.params.doc
@@ -142,9 +152,7 @@ class CollisionMonitorServer(_ZonesAndSources):
         super().__init__(runtime, params, local_costmap_server)
         self.publish = publish if publish is not None else runtime.command_base
         self.enabled: bool = params.model.enabled
-        self.set_parameters(params)
-        if runtime.latest_scan is not None:  # the runtime's first scan, taken at the start
-            self._scan_received(runtime.latest_scan)
+        self._start(params)
         #: The action in force (Nav2's robot_action_prev_) and the zone that set it.
         self.action = Action(ActionType.DO_NOTHING, _NOT_YET)
         self.action_polygon: Polygon | None = None
@@ -232,9 +240,7 @@ class CollisionDetectorServer(_ZonesAndSources):
     ) -> None:
         super().__init__(runtime, params, local_costmap_server)
         self.publish = publish
-        self.set_parameters(params)
-        if runtime.latest_scan is not None:
-            self._scan_received(runtime.latest_scan)
+        self._start(params)
         self.state = CollisionDetectorState(runtime.now, (), ())
         #: Ticks each polygon detected points in, and the sources found invalid per tick.
         self.detections: Counter[str] = Counter()
