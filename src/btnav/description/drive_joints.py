@@ -13,6 +13,7 @@ radius theirs. Casters (a link or joint named `caster`) are no drive wheels.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import fsum  # not sum(): compensated from CPython 3.12 (decision 0092)
 
 from .model import Joint, RobotModel
 from .robot_description import DriveDescription
@@ -82,15 +83,15 @@ def read_drive_joints(model: RobotModel, poses: dict[str, Transform]) -> DriveDe
         steered |= set(model.subtree(h.child))
     rear = [w for w in wheels if w.joint.child not in steered]
     radii = [w.radius for w in rear if w.radius is not None]
-    radius = sum(radii) / len(radii) if radii else None
+    radius = fsum(radii) / len(radii) if radii else None
     left, right = [w for w in rear if w.y > 0.0], [w for w in rear if w.y < 0.0]
     separation = None
     if left and right:
-        separation = sum(w.y for w in left) / len(left) - sum(w.y for w in right) / len(right)
+        separation = fsum(w.y for w in left) / len(left) - fsum(w.y for w in right) / len(right)
     names = ", ".join(w.joint.name for w in rear)
     if hinges and rear:
         hinge_x = [compose(poses[h.child], h.frame)[1][0] for h in hinges]
-        wheelbase = abs(sum(hinge_x) / len(hinge_x) - sum(w.x for w in rear) / len(rear))
+        wheelbase = abs(fsum(hinge_x) / len(hinge_x) - fsum(w.x for w in rear) / len(rear))
         limits = [
             min(abs(h.lower), abs(h.upper))
             for h in hinges

@@ -23,7 +23,10 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from pathlib import Path as FilePath
-from typing import Any, Self
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # typing.Self is 3.11+; the annotation is never evaluated
+    from typing_extensions import Self
 
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D

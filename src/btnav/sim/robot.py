@@ -7,6 +7,8 @@ robot physically and a moving obstacle can push it.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pymunk
 
@@ -42,8 +44,8 @@ class Robot:
             self.polygon = np.asarray(fp.polygon, dtype=float)
             parts = convex_parts(self.polygon)
             areas = [abs(signed_area(p)) for p in parts]
-            total = sum(areas)
-            moment = sum(
+            total = math.fsum(areas)  # fsum: the same bits on every CPython (decision 0092)
+            moment = math.fsum(
                 pymunk.moment_for_poly(ROBOT_MASS * a / total, [tuple(v) for v in p])
                 for p, a in zip(parts, areas, strict=True)
             )
