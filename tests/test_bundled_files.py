@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -34,19 +35,22 @@ def test_params_nav2_params_is_nav2s_file_byte_for_byte(nav2_params_file):
 
 
 def test_an_installed_btnav_carries_the_bundled_folders(tmp_path):
-    """setup.py's build step (what a wheel holds) copies trees, worlds, maps, params and
-    missions into btnav/data, where `bundled_dir` looks in an installed btnav."""
+    """The wheel pip builds holds trees, worlds, maps, params and missions in btnav/data,
+    where `bundled_dir` looks in an installed btnav. Built as a user's `pip install .`
+    builds it (an isolated build: a venv of CPython 3.12+ has no setuptools of its own)."""
     subprocess.run(
-        [sys.executable, "setup.py", "-q", "build_py", "--build-lib", str(tmp_path)],
+        [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(tmp_path), "."],
         cwd=REPO,
         check=True,
         capture_output=True,
     )
-    for kind in BUNDLED_KINDS:
-        for file in (REPO / kind).rglob("*"):
-            if file.is_file() and "__pycache__" not in file.parts:
-                packed = tmp_path / "btnav" / "data" / kind / file.relative_to(REPO / kind)
-                assert packed.read_bytes() == file.read_bytes()
+    (wheel,) = tmp_path.glob("btnav-*.whl")
+    with zipfile.ZipFile(wheel) as packed:
+        for kind in BUNDLED_KINDS:
+            for file in (REPO / kind).rglob("*"):
+                if file.is_file() and "__pycache__" not in file.parts:
+                    inside = f"btnav/data/{kind}/{file.relative_to(REPO / kind).as_posix()}"
+                    assert packed.read(inside) == file.read_bytes()
 
 
 def test_a_bundled_mission_is_found_by_its_bare_name(tmp_path, monkeypatch):
