@@ -120,10 +120,10 @@ def draw_world(
         patches += [Circle((cx, cy), r) for cx, cy, r in circles]
         if patches:
             ax.add_collection(
-                PatchCollection(patches, facecolor=color, edgecolor=color, linewidth=0.5, zorder=2)
+                PatchCollection(
+                    patches, facecolor=color, edgecolor=color, linewidth=0.5, zorder=2, label=label
+                )
             )
-            # The legend's entry: matplotlib before 3.11 has no legend handler for collections.
-            ax.fill([], [], color=color, label=label)
 
     for pts, loop in _routes(world):
         ax.plot(
