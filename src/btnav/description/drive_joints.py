@@ -13,7 +13,7 @@ radius theirs. Casters (a link or joint named `caster`) are no drive wheels.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from math import fsum  # not sum(): compensated from CPython 3.12 (decision 0092)
+from statistics import fmean  # fsum / n: not sum(), compensated from CPython 3.12 (0092)
 
 from .model import Joint, RobotModel
 from .robot_description import DriveDescription
@@ -83,15 +83,15 @@ def read_drive_joints(model: RobotModel, poses: dict[str, Transform]) -> DriveDe
         steered |= set(model.subtree(h.child))
     rear = [w for w in wheels if w.joint.child not in steered]
     radii = [w.radius for w in rear if w.radius is not None]
-    radius = fsum(radii) / len(radii) if radii else None
+    radius = fmean(radii) if radii else None
     left, right = [w for w in rear if w.y > 0.0], [w for w in rear if w.y < 0.0]
     separation = None
     if left and right:
-        separation = fsum(w.y for w in left) / len(left) - fsum(w.y for w in right) / len(right)
+        separation = fmean(w.y for w in left) - fmean(w.y for w in right)
     names = ", ".join(w.joint.name for w in rear)
     if hinges and rear:
         hinge_x = [compose(poses[h.child], h.frame)[1][0] for h in hinges]
-        wheelbase = abs(fsum(hinge_x) / len(hinge_x) - fsum(w.x for w in rear) / len(rear))
+        wheelbase = abs(fmean(hinge_x) - fmean(w.x for w in rear))
         limits = [
             min(abs(h.lower), abs(h.upper))
             for h in hinges
