@@ -27,10 +27,11 @@ from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
 from typing import Any  # noqa: E402
 
-from btnav.slam import cartographer_slam, submaps  # noqa: E402
-from btnav.slam.cartographer_config import load_cartographer_config  # noqa: E402
+from btnav.slam.cartographer import slam as cartographer_slam  # noqa: E402
+from btnav.slam.cartographer import submaps  # noqa: E402
+from btnav.slam.cartographer.config import load_cartographer_config  # noqa: E402
+from btnav.slam.cartographer.offline import run_cartographer  # noqa: E402
 from btnav.slam.logs import read_log  # noqa: E402
-from btnav.slam.offline_cartographer import run_cartographer  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 CPU: Counter[str] = Counter()

@@ -1,4 +1,4 @@
-"""The pose-graph optimiser (btnav.slam.pose_graph) against gtsam, and its linear solvers.
+"""The pose-graph optimiser (btnav.slam.graph.pose_graph) against gtsam, and its linear solvers.
 
     python bench/pose_graph_solver.py [--repeat 3] [--skip-coretypes] [--skip-pcg]
 
@@ -41,8 +41,8 @@ import scipy.sparse.linalg as spla  # noqa: E402
 
 from btnav.core import fmath  # noqa: E402
 from btnav.core.geometry import normalize_angle  # noqa: E402
-from btnav.slam.graph_solver import BlockPattern, assemble  # noqa: E402
-from btnav.slam.pose_graph import graph_error, jacobians, optimize_poses  # noqa: E402
+from btnav.slam.graph.pose_graph import graph_error, jacobians, optimize_poses  # noqa: E402
+from btnav.slam.graph.solver import BlockPattern, assemble  # noqa: E402
 
 SIGMA = np.array([0.05, 0.05, 0.01])
 Graph = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -231,7 +231,7 @@ CHILD = """
 import hashlib, sys
 sys.path.insert(0, {here!r})
 from pose_graph_solver import manhattan_graph
-from btnav.slam.pose_graph import optimize_poses
+from btnav.slam.graph.pose_graph import optimize_poses
 _, init, i, j, z, info = manhattan_graph(n=1500)
 for s in ("cholesky", "superlu"):
     x, _ = optimize_poses(init, i, j, z, info, linear_solver=s, max_iterations=50)

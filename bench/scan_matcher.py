@@ -1,4 +1,4 @@
-"""Karto's correlative scan matcher (btnav.slam.scan_matcher): milliseconds per match.
+"""Karto's correlative scan matcher (btnav.slam.karto.scan_matcher): milliseconds per match.
 
     python bench/scan_matcher.py [--repeat 20]
 
@@ -36,7 +36,7 @@ from btnav.core import fmath  # noqa: E402
 from btnav.core.geometry import Pose2D, angle_diff  # noqa: E402
 from btnav.sim.raycast import cast_from_pose  # noqa: E402
 from btnav.sim.world import World  # noqa: E402
-from btnav.slam.scan_matcher import MatcherParams, MatchResult, ScanMatcher  # noqa: E402
+from btnav.slam.karto.scan_matcher import MatcherParams, MatchResult, ScanMatcher  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 WORLD = REPO / "worlds" / "small_office.yaml"

@@ -37,7 +37,7 @@ sys.path.insert(0, str(REPO))
 
 from tests.slam.loop_drive import drive_loop  # noqa: E402  (the tests' driver, on ground truth)
 
-from btnav.slam.metrics import ate_rms  # noqa: E402
+from btnav.testing.slam_metrics import ate_rms  # noqa: E402
 
 TARGET = 10.0
 
@@ -79,9 +79,9 @@ def loop(seed: int) -> None:
 
 
 def log_run(path: Path) -> None:
+    from btnav.slam.karto.offline import run_slam
+    from btnav.slam.karto.slam_toolbox import default_slam_params
     from btnav.slam.logs import read_log
-    from btnav.slam.offline import run_slam
-    from btnav.slam.slam_toolbox import default_slam_params
 
     t0 = time.perf_counter()
     log = read_log(path)
@@ -101,7 +101,7 @@ def log_errors(path: Path, stamps: np.ndarray, poses: np.ndarray) -> str:
     relations file it finds beside the log; "" without one."""
     from slam_logs import relations_path  # bench/slam_logs.py: which file scores a log
 
-    from btnav.slam.metrics import relation_errors, relations
+    from btnav.testing.slam_metrics import relation_errors, relations
 
     rel_path = relations_path(path)
     if not rel_path.exists():

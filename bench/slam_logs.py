@@ -5,10 +5,10 @@
                               [--trajectory matched|odometry]
 
 Default logs: ../shared/slam_logs/intel.clf (relative to the repo) and, when `rosbags`
-is installed, intel.bag beside it. Each log runs through `btnav.slam.offline.run_slam`,
+is installed, intel.bag beside it. Each log runs through `btnav.slam.karto.offline.run_slam`,
 the engine `btnav slam` runs, with the params `btnav slam` would use (slam_toolbox's
 own mapper_params_online_async.yaml without --params; with --lua, Cartographer's engine,
-`btnav.slam.offline_cartographer.run_cartographer`, configured by that file, as `btnav slam
+`btnav.slam.cartographer.offline.run_cartographer`, configured by that file, as `btnav slam
 --lua`). Printed per log: the relation
 errors (Kümmerle et al. 2009: mean and standard deviation of the absolute translational
 and rotational errors over the ground-truth relations in `<log stem>.relations`) of
@@ -56,13 +56,13 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from btnav.slam.cartographer_config import load_cartographer_config  # noqa: E402
+from btnav.slam.cartographer.config import load_cartographer_config  # noqa: E402
+from btnav.slam.cartographer.offline import run_cartographer  # noqa: E402
+from btnav.slam.karto.mapper import Mapper  # noqa: E402
+from btnav.slam.karto.offline import odometry_trajectory, run_slam  # noqa: E402
 from btnav.slam.logs import RecordedLog, read_log  # noqa: E402
-from btnav.slam.mapper import Mapper  # noqa: E402
-from btnav.slam.metrics import RelationErrors, relation_errors, relations  # noqa: E402
-from btnav.slam.offline import odometry_trajectory, run_slam  # noqa: E402
-from btnav.slam.offline_cartographer import run_cartographer  # noqa: E402
 from btnav.slam.offline_files import slam_params  # noqa: E402
+from btnav.testing.slam_metrics import RelationErrors, relation_errors, relations  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 LOGS = REPO.parent / "shared" / "slam_logs"

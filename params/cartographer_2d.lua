@@ -2,7 +2,7 @@
 -- 360-beam planar lidar reaching 0.12 m to 8 m at 10 Hz, and wheel odometry at 50 Hz; see
 -- worlds/*.yaml). It is written the way turtlebot3_cartographer's turtlebot3_lds_2d.lua
 -- is: include Cartographer's defaults, build the options table cartographer_ros reads,
--- then override a few defaults. `btnav.slam.cartographer_config.load_cartographer_config`
+-- then override a few defaults. `btnav.slam.cartographer.config.load_cartographer_config`
 -- runs it; `cartographer_node -configuration_basename cartographer_2d.lua` reads it as well.
 
 include "map_builder.lua"

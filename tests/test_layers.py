@@ -13,7 +13,7 @@ LAYERS: list[set[str]] = [
     {"maps", "params", "plugins", "description"},
     {"sim"},
     {"costmap"},
-    {"planning", "control", "behaviors", "localization", "slam", "exploration"}
+    {"planning", "control", "behaviors", "localization", "slam", "odometry", "exploration"}
     | {"route", "docking", "collision_monitor"},
     {"nav"},
     {"bt"},

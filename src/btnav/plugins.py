@@ -180,6 +180,14 @@ def is_registered(kind: str, name: str) -> bool:
     return canonical(name) in table
 
 
+def primary_name(kind: str, name: str) -> str | None:
+    """The name `name` was registered under (itself, or the plugin an alias points at);
+    None when nothing of `kind` is registered as `name`."""
+    _check_kind(kind)
+    load_entry_points()
+    return _primary[kind].get(canonical(name))
+
+
 def names(kind: str, *, aliases: bool = False) -> list[str]:
     """Registered names of a kind (primary names only, unless `aliases`)."""
     table = _check_kind(kind)

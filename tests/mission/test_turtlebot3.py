@@ -13,7 +13,7 @@ from btnav.mission import Mission
 from btnav.mission.stages import run_stages
 from btnav.sim.rasterize import rasterize
 from btnav.sim.world_spec import load_world_spec
-from btnav.slam.metrics import map_quality
+from btnav.testing.slam_metrics import map_quality
 
 REPO = Path(__file__).resolve().parents[2]
 MISSION = REPO / "missions" / "turtlebot3_slam_then_nav.yaml"

@@ -9,8 +9,8 @@ import pytest
 
 from btnav.cli import main
 from btnav.maps import load_map
-from btnav.slam.graph_io import load_pose_graph
-from btnav.slam.slam_toolbox import default_slam_params
+from btnav.slam.karto.graph_io import load_pose_graph
+from btnav.slam.karto.slam_toolbox import default_slam_params
 
 INTEL = Path(__file__).resolve().parents[2].parent / "shared" / "slam_logs" / "intel.clf"
 needs_intel = pytest.mark.skipif(not INTEL.is_file(), reason="../shared/slam_logs is not here")
@@ -105,7 +105,7 @@ CARTOGRAPHER_LUA = Path(__file__).resolve().parents[2] / "params" / "cartographe
 @needs_intel
 def test_slam_with_a_cartographer_lua_maps_the_log_and_places_every_scan(tmp_path, capsys):
     from btnav.slam.logs import read_log
-    from btnav.slam.metrics import relation_errors, relations
+    from btnav.testing.slam_metrics import relation_errors, relations
 
     log = head_of_intel(tmp_path, scans=800)
     out = tmp_path / "carto"

@@ -13,10 +13,10 @@ import pytest
 
 from btnav.cli import main
 from btnav.cli.params import check_report
-from btnav.slam.mapper import Mapper
-from btnav.slam.slam_toolbox import default_slam_params
+from btnav.slam.karto.mapper import Mapper
+from btnav.slam.karto.slam_toolbox import default_slam_params
 
-from .test_log_values import carmen
+from .logs.test_log_values import carmen
 
 CARTOGRAPHER_LUA = Path(__file__).resolve().parents[2] / "params" / "cartographer_2d.lua"
 

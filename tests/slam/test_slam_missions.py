@@ -19,7 +19,7 @@ from btnav.core.errors import BtnavError
 from btnav.mission import Mission, run_mission
 from btnav.sim.rasterize import rasterize
 from btnav.sim.world_spec import load_world_spec
-from btnav.slam.metrics import map_quality
+from btnav.testing.slam_metrics import map_quality
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "corridor_loop.yaml"

@@ -16,12 +16,12 @@ from os import PathLike
 from pathlib import Path
 
 from ..core.errors import ConfigError
-from ..slam.cartographer_config import load_cartographer_config
+from ..slam.cartographer.config import load_cartographer_config
+from ..slam.cartographer.offline import run_cartographer
+from ..slam.karto.offline import run_slam
+from ..slam.karto.slam_toolbox import warn_ignored
 from ..slam.logs import read_log
-from ..slam.offline import run_slam
-from ..slam.offline_cartographer import run_cartographer
 from ..slam.offline_files import load_slam_params, write_outputs
-from ..slam.slam_toolbox import warn_ignored
 from . import EXIT_OK
 
 

@@ -33,7 +33,7 @@ from ..navigators.navigator import BasicNavigator
 from ..params.loader import ROS_PARAMETERS
 from ..params.paramsfile import ParamsFile
 from ..params.updates import _override_target, apply_overrides
-from ..plugins import is_registered, load_plugins, names
+from ..plugins import is_registered, load_plugins, names, primary_name
 from ..sim.frames import world_frame_tree
 from ..sim.world import World
 from ..sim.world_spec import WorldSpec, load_world_spec
@@ -493,7 +493,7 @@ def _cartographer_config(spec: MissionSpec, base: Path, where: Any) -> Any:
                 **where("cartographer_config"),
             )
         return None
-    from ..slam.cartographer_config import load_cartographer_config
+    from ..slam.cartographer.config import load_cartographer_config
 
     if spec.cartographer_config is None:
         return load_cartographer_config(bundled_dir("params") / "cartographer_2d.lua")
@@ -505,7 +505,7 @@ def _check_output_needs(spec: MissionSpec, where: Any) -> None:
     """An output the localiser cannot give (`pose_graph` without slam_toolbox's graph)."""
     for i, name in enumerate(spec.outputs):
         need = OUTPUT_NEEDS.get(name)
-        if need is None or spec.localization in need:
+        if need is None or primary_name("slam", spec.localization) in need:
             continue
         raise MissionError(
             f"output '{name}' is slam_toolbox's serialised pose graph: it needs "

@@ -44,7 +44,7 @@ BUILTIN_OUTPUTS: dict[str, tuple[str, ...]] = {
     "pose_graph": ("pose_graph.npz",),
 }
 #: Outputs only some localisers can give, and which (`localization:` values).
-OUTPUT_NEEDS: dict[str, tuple[str, ...]] = {"pose_graph": ("slam",)}
+OUTPUT_NEEDS: dict[str, tuple[str, ...]] = {"pose_graph": ("slam_toolbox",)}
 DEFAULT_OUTPUTS = ["report", "trajectory", "bt_log"]
 
 

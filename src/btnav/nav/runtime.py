@@ -48,6 +48,7 @@ from ..core.frames import BASE_FOOTPRINT, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
 from ..core.heap import frozen_heap
 from ..core.messages import LaserScan, Odometry, Twist
+from ..odometry.laser_odometry import LaserOdometry
 from ..plugins import lookup
 from ..sim.frames import add_robot_frames
 from ..sim.lidar import Lidar
@@ -55,7 +56,6 @@ from ..sim.odometry import WheelOdometry, make_odometry
 from ..sim.sensor import Sensor
 from ..sim.sensors import make_sensors
 from ..sim.world import World
-from ..slam.laser_odometry import LaserOdometry
 from .actions import ActionClient, ActionServer, ActionServers
 
 

@@ -50,9 +50,9 @@ from ..nav.teleop import DriveServer
 from ..params.loader import load_params
 from ..params.map_io import MapSaverParams
 from ..params.paramsfile import ParamsFile, ServerParams
-from ..plugins import is_registered
+from ..plugins import is_registered, primary_name
 from ..sim.world import World
-from ..slam.slam_toolbox import default_slam_params
+from ..slam.karto.slam_toolbox import default_slam_params
 from .bt_navigator import BtNavigator
 from .explore_navigator import ExploreNavigator
 from .waypoint_follower import WaypointFollower
@@ -101,13 +101,14 @@ class BasicNavigator:
         w = world if isinstance(world, World) else World.from_file(world, seed=seed)
         rt = Runtime(w, seed=seed)
         pf = params if isinstance(params, ParamsFile) else load_params(params)
-        section = {"amcl": "amcl", "slam": "slam_toolbox"}.get(localization)
-        model = pf.server(section).model if section is not None and section in pf else None
-        if localization == "slam" and model is None:  # Nav2's slam_launch.py default file
+        kind = "slam" if is_registered("slam", localization) else "localizer"
+        section = primary_name(kind, localization)  # slam_toolbox's section for `slam` too
+        has_section = section in ("amcl", "slam_toolbox") and section in pf
+        model = pf.server(section).model if has_section else None
+        if section == "slam_toolbox" and model is None:  # Nav2's slam_launch.py default file
             model = default_slam_params()
         if localization == "cartographer":  # its .lua, not a params-file section
             model = slam_config
-        kind = "slam" if is_registered("slam", localization) else "localizer"
         rt.use_localizer(localization, model, kind=kind)
         grid = load_map(map) if map is not None else None
         stack = NavStack.build(rt, pf, grid, seed=seed)

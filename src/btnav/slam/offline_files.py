@@ -3,7 +3,7 @@
 The folder is what slam_toolbox leaves after a bag: `map.yaml` + `map.pgm` (map_server's
 format), `trajectory.csv` (t, x, y, yaw: one row per scan, at the scan's time) and
 `pose_graph.npz` (the graph `localization: slam` with `mode: localization` loads; after
-`--lua`, Cartographer's nodes and edges, `graph_io.save_cartographer_graph`).
+`--lua`, Cartographer's nodes and edges, `cartographer.graph_io.save_cartographer_graph`).
 `btnav slam` (`btnav.cli.slam`) reads and checks every input before writing here.
 """
 
@@ -20,10 +20,12 @@ from ..params.loader import load_params
 from ..params.localization import SlamToolboxParams
 from ..params.paramsfile import ParamsFile
 from ..params.tree import line_of
-from .graph_io import save_cartographer_graph, save_pose_graph
-from .mapper import Mapper
-from .offline import OfflineResult, refuse_localization
-from .slam_toolbox import default_slam_params
+from .cartographer.graph_io import save_cartographer_graph
+from .karto.graph_io import save_pose_graph
+from .karto.mapper import Mapper
+from .karto.offline import refuse_localization
+from .karto.slam_toolbox import default_slam_params
+from .offline_result import OfflineResult
 
 
 def load_slam_params(
@@ -31,7 +33,7 @@ def load_slam_params(
 ) -> tuple[SlamToolboxParams, ParamsFile | None]:
     """The `slam_toolbox:` section of a params file (slam_toolbox's own file without one)
     and the file, whose ignored keys the caller reports (`slam_toolbox.warn_ignored`).
-    `mode: localization` is an error at its line (`offline.refuse_localization`)."""
+    `mode: localization` is an error at its line (`karto.offline.refuse_localization`)."""
     pf = load_params(path) if path is not None else None
     if pf is None or "slam_toolbox" not in pf:
         return default_slam_params(), pf
