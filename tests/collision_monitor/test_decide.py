@@ -117,3 +117,15 @@ def test_approach_never_lets_the_footprint_reach_the_obstacle(speed: float) -> N
     assert min(gaps) > 0.0
     assert speeds[-1] == 0.0 and gaps[-1] < 0.1
     assert all(b <= a + 1e-12 for a, b in itertools.pairwise(speeds))  # only slows
+
+
+def test_a_standing_robot_with_points_in_its_footprint_is_left_alone() -> None:
+    # a zero command is as slow as any approach can make it: no action, as in Nav2 (and
+    # after a slowdown to zero, the approach zone does not act either)
+    inside = cluster(0.1)
+    action, cause = decide(zones(FootprintApproach=FOOTPRINT_APPROACH), inside, Twist())
+    assert (action.action_type, cause) == (ActionType.DO_NOTHING, None)
+    stopped = dict(POLYGON_SLOW, slowdown_ratio=0.0)
+    both = zones(PolygonSlow=stopped, FootprintApproach=FOOTPRINT_APPROACH)
+    action, cause = decide(both, inside, Twist(0.3, 0.0, 0.0))
+    assert action.action_type == ActionType.SLOWDOWN and cause is both[0]

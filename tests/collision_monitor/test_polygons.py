@@ -9,6 +9,8 @@ import pytest
 from btnav.collision_monitor import Circle, Polygon, VelocityPolygon
 from btnav.collision_monitor.action import ActionType
 from btnav.collision_monitor.kinematics import step_times
+from btnav.collision_monitor.shapes import points_in_polygon
+from btnav.core import fmath
 from btnav.core.messages import Twist
 from btnav.costmap.footprint import footprint_from_radius
 
@@ -186,3 +188,62 @@ def test_simulation_horizon_is_nav2s_float_loop() -> None:
     # the step's start, 0.2 s); one a fourth step would reach is not
     assert zone.collision_time({"scan": wall_points(0.22 + 0.12)}, Twist(0.5))[0] == 0.2
     assert zone.collision_time({"scan": wall_points(0.22 + 0.2)}, Twist(0.5))[0] == -1.0
+
+
+def nav2_collision_time(
+    vertices: np.ndarray, points: np.ndarray, v: Twist, horizon: float, dt: float, min_points: int
+) -> tuple[float, np.ndarray]:
+    """Nav2's getCollisionTime as it is written: every point seen from every pose in turn."""
+    if len(points) == 0:
+        return -1.0, points[:0]
+    inside = points_in_polygon(points, vertices)
+    if np.count_nonzero(inside) >= min_points:
+        return 0.0, points[inside]
+    x = y = theta = time = 0.0
+    vx, vy = v.linear_x, v.linear_y
+    s_step, c_step = fmath.sincos(v.angular_z * dt)
+    while time <= horizon:
+        x, y, theta = x + vx * dt, y + vy * dt, theta + v.angular_z * dt  # projectState
+        vx, vy = vx * c_step - vy * s_step, vx * s_step + vy * c_step
+        s, c = fmath.sincos(theta)
+        dx, dy = points[:, 0] - x, points[:, 1] - y
+        seen = np.stack([dx * c + dy * s, -dx * s + dy * c], axis=-1)
+        inside = points_in_polygon(seen, vertices)
+        if np.count_nonzero(inside) >= min_points:
+            return time, points[inside]
+        time += dt
+    return -1.0, points[:0]
+
+
+def test_time_to_collision_is_nav2s_loop_on_random_scenes() -> None:
+    # the zone leaves out points beyond its reach of each pose and poses that cannot hold
+    # min_points: on scenes where it does and does not collide, the answer stays Nav2's
+    rng = np.random.default_rng(11)
+    footprint = footprint_from_radius(0.22)
+    found = {"now": 0, "ahead": 0, "none": 0}
+    for trial in range(300):
+        vertices = footprint if trial % 2 else rng.uniform(-0.4, 0.4, (5, 2))
+        points = rng.uniform(-1.0, 1.0, (int(rng.integers(0, 100)), 2))
+        v = Twist(rng.uniform(-0.8, 0.8), rng.uniform(-0.3, 0.3) * (trial % 3 == 0))
+        v.angular_z = rng.uniform(-2.5, 2.5) * (trial % 4 != 0)
+        horizon, dt = [(1.2, 0.1), (2.0, 0.05), (0.5, 0.2)][trial % 3]
+        zone = footprint_zone(time_before_collision=horizon, simulation_time_step=dt)
+        zone.set_polygon(vertices)
+        zone.min_points = int(rng.integers(1, 8))
+        time, inside = zone.collision_time({"scan": points}, v)
+        want, want_inside = nav2_collision_time(vertices, points, v, horizon, dt, zone.min_points)
+        assert time == want, trial
+        np.testing.assert_array_equal(inside, want_inside)
+        found["now" if time == 0.0 else "ahead" if time > 0.0 else "none"] += 1
+    assert min(found.values()) >= 30, found
+
+
+def test_a_footprint_zone_follows_a_new_footprint() -> None:
+    shape = {"footprint": footprint_from_radius(0.22)}
+    zone = Polygon("F", polygon(FOOTPRINT_APPROACH), ["scan"], lambda: shape["footprint"])
+    face = {"scan": wall_points(0.3)}
+    zone.update_polygon(Twist())
+    assert zone.collision_time(face, Twist())[0] == -1.0  # the face is 8 cm ahead
+    shape["footprint"] = footprint_from_radius(0.35)  # the costmap's new footprint
+    zone.update_polygon(Twist())
+    assert zone.collision_time(face, Twist())[0] == 0.0

@@ -188,3 +188,17 @@ def test_sensors_a_2d_simulation_lacks_are_refused(kind: str) -> None:
     model = monitor_params({"PolygonStop": POLYGON_STOP}, {"cam": {"type": kind}})
     with pytest.raises(ParamsError, match="lidars only"):
         make_sources(model, tree())
+
+
+def test_a_scan_of_other_beams_is_read_with_its_own_angles() -> None:
+    # the beams' directions are kept between scans: a scan whose beams start elsewhere (or
+    # are more) must not be read with the previous scan's
+    src = scan_source(SourceFrames(tree()))
+    src.receive(scan([1.0, 1.0]))
+    np.testing.assert_allclose(src.get_data(0.0), [[1.1, 0.0], [0.1, 1.0]], atol=1e-12)
+    src.receive(scan([1.0, 1.0], angle_min=math.pi / 2))
+    np.testing.assert_allclose(src.get_data(0.0), [[0.1, 1.0], [-0.9, 0.0]], atol=1e-12)
+    src.receive(scan([1.0, 1.0, 2.0], angle_min=math.pi / 2))
+    np.testing.assert_allclose(
+        src.get_data(0.0), [[0.1, 1.0], [-0.9, 0.0], [0.1, -2.0]], atol=1e-12
+    )

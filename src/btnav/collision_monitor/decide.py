@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from ..core import fmath
 from ..core.messages import Twist
-from .action import Action, ActionType, is_safer, scaled
+from .action import Action, ActionType, is_safer, is_zero, scaled
 from .polygon import PointsBySource, Polygon
 from .source import Source
 
@@ -80,8 +80,11 @@ def stop_slowdown_limit(
 
 
 def approach(polygon: Polygon, points: PointsBySource, cmd: Twist, action: Action) -> bool:
-    """Nav2's processApproach: slow down so the collision stays `time_before_collision` away."""
-    if not polygon.is_shape_set():
+    """Nav2's processApproach: slow down so the collision stays `time_before_collision` away.
+
+    Under a stop already asked for (a zero command) no slower command exists, so the
+    footprint is not simulated: Nav2's answer, without the work."""
+    if not polygon.is_shape_set() or is_zero(action.req_vel):
         return False
     time, inside = polygon.collision_time(points, cmd)
     if time < 0.0:

@@ -1,5 +1,5 @@
-"""The robot's motion simulated forward at a constant command, and points seen from the
-poses it passes (nav2_collision_monitor/kinematics.cpp), for the approach action."""
+"""The robot's motion simulated forward at a constant command (nav2_collision_monitor's
+kinematics.cpp), for the approach action."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ from ..core.messages import Twist
 
 def step_times(horizon: float, dt: float) -> list[float]:
     """The times Nav2's simulation loop visits: 0, dt, 2 dt, ... accumulated as Nav2
-    adds them, while <= `horizon` (so 12 steps, not 13, for 1.2 s in steps of 0.1)."""
+    adds them, while <= `horizon` (the sum's rounding decides the last: 13 times for
+    1.2 s in steps of 0.1, but 3 for 0.3 s, as 0.1 + 0.1 + 0.1 > 0.3)."""
     times = []
     t = 0.0
     while t <= horizon:
@@ -31,23 +32,10 @@ def projected_poses(velocity: Twist, dt: float, steps: int) -> NDArray[np.float6
     s, c = fmath.sincos(velocity.angular_z * dt)
     x = y = theta = 0.0
     vx, vy = velocity.linear_x, velocity.linear_y
-    for k in range(steps):  # a few dozen steps; the points are transformed all at once
+    for k in range(steps):  # a few dozen steps (Nav2's arithmetic, step by step)
         x += vx * dt
         y += vy * dt
         theta += velocity.angular_z * dt
         vx, vy = vx * c - vy * s, vx * s + vy * c
         out[k] = (x, y, theta)
-    return out
-
-
-def points_seen_from(
-    poses: NDArray[np.float64], points: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """(T, N, 2): `points` (N, 2) in the frame of each of `poses` (T, 3)."""
-    s, c = fmath.sincos(poses[:, 2])
-    dx = points[None, :, 0] - poses[:, 0, None]
-    dy = points[None, :, 1] - poses[:, 1, None]
-    out = np.empty((len(poses), len(points), 2))
-    out[..., 0] = dx * c[:, None] + dy * s[:, None]
-    out[..., 1] = -dx * s[:, None] + dy * c[:, None]
     return out

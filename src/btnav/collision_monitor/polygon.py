@@ -20,8 +20,8 @@ from ..core import fmath
 from ..core.messages import Twist
 from ..params.collision_monitor import CollisionPolygon
 from .action import ActionType, action_type_of
-from .kinematics import points_seen_from, projected_poses, step_times
-from .shapes import points_in_polygon
+from .kinematics import projected_poses, step_times
+from .shapes import Outline
 
 #: The points each source sensed, (N, 2) in the base frame, by source name.
 PointsBySource = Mapping[str, NDArray[np.float64]]
@@ -59,6 +59,11 @@ class Polygon:
         self.vertices: NDArray[np.float64] | None = (
             np.asarray(params.points, dtype=float) if params.points else None
         )
+        #: `vertices` as an Outline (edges, box, reach), and the array it was made from.
+        self._shape: Outline | None = None
+        self._shape_of: NDArray[np.float64] | None = None
+        #: The footprint array `vertices` was last read from.
+        self._footprint_read: object = None
         self.reset_trigger_state()
 
     # -- the shape ----------------------------------------------------------------------
@@ -75,7 +80,12 @@ class Polygon:
     def update_polygon(self, cmd: Twist) -> None:
         """Before each check: the footprint's latest shape, for a footprint polygon."""
         if self.follows_footprint and self._footprint is not None:
-            self.vertices = np.asarray(self._footprint(), dtype=float).reshape(-1, 2)
+            footprint = self._footprint()
+            # the costmap replaces its footprint array when the footprint changes (never
+            # in place): the same array is the same shape, and its Outline still holds
+            if footprint is not self._footprint_read:
+                self.vertices = np.asarray(footprint, dtype=float).reshape(-1, 2)
+                self._footprint_read = footprint
 
     def set_polygon(self, vertices: ArrayLike) -> None:
         """A shape given at run time, in the base frame (Nav2's polygon_sub_topic message);
@@ -90,11 +100,18 @@ class Polygon:
         """The zone's vertices in the base frame (what Nav2 publishes for RViz)."""
         return _NO_POINTS if self.vertices is None else self.vertices
 
+    def shape(self) -> Outline:
+        """`vertices` as an Outline, made again only when they are another array."""
+        if self._shape is None or self._shape_of is not self.vertices:
+            self._shape = Outline(_NO_POINTS if self.vertices is None else self.vertices)
+            self._shape_of = self.vertices
+        return self._shape
+
     def inside(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Which of `points` (..., 2) are inside the zone."""
         if self.vertices is None:
             return np.zeros(points.shape[:-1], dtype=bool)
-        return points_in_polygon(points, self.vertices)
+        return self.shape().contains(points)
 
     # -- points inside --------------------------------------------------------------------
 
@@ -150,36 +167,51 @@ class Polygon:
 
         Nav2's getCollisionTime: 0 if they are inside already; else the footprint is
         moved step by step (`simulation_time_step`) and the time of the step before the
-        first one that holds them is returned. Every step's points in one array.
+        first one that holds them is returned. All poses (now, then each step's end) and
+        all points at once, each point seen from a pose only when it is within the
+        zone's reach of it (the others cannot be inside: the answer is the same).
         """
         points = self.collision_points(points_by_source)
         if len(points) == 0:
             return -1.0, _NO_POINTS
-        now_inside = self.inside(points)
-        if np.count_nonzero(now_inside) >= self.min_points:
-            return 0.0, points[now_inside]
-        times = step_times(self.time_before_collision, self.simulation_time_step)
-        poses = projected_poses(velocity, self.simulation_time_step, len(times))
-        # a point further than the zone's reach plus the path's length is never inside:
-        # left out, the answer is the same and the (steps, N) arrays are smaller
-        path = float(fmath.hypot(velocity.linear_x, velocity.linear_y)) * (
-            self.simulation_time_step * len(times)
-        )
-        reach = self.reach() + path
-        near = points[points[:, 0] * points[:, 0] + points[:, 1] * points[:, 1] <= reach * reach]
-        inside = self.inside(points_seen_from(poses, near))  # (steps, N)
-        hits = np.flatnonzero(np.count_nonzero(inside, axis=1) >= self.min_points)
+        dt = self.simulation_time_step
+        times = step_times(self.time_before_collision, dt)
+        poses = np.concatenate([np.zeros((1, 3)), projected_poses(velocity, dt, len(times))])
+        # the margins cover rounding: a point inside is within reach of its pose, and the
+        # poses within the path's length of the origin
+        reach = self.reach() * (1.0 + 1e-9)
+        path = float(fmath.hypot(velocity.linear_x, velocity.linear_y)) * (dt * len(times))
+        around = (reach + path) * (1.0 + 1e-9)
+        times = [0.0, *times]  # pose k > 0 answers with the start of its step
+        near = points[points[:, 0] * points[:, 0] + points[:, 1] * points[:, 1] <= around * around]
+        if len(near) < self.min_points:  # most commands: a lidar's points are mostly far
+            return -1.0, _NO_POINTS
+        dx = near[None, :, 0] - poses[:, 0, None]  # (poses, points)
+        dy = near[None, :, 1] - poses[:, 1, None]
+        close = dx * dx + dy * dy <= reach * reach
+        steps = np.flatnonzero(np.count_nonzero(close, axis=1) >= self.min_points)
+        if len(steps) == 0:
+            return -1.0, _NO_POINTS
+        # the close (pose, point) pairs of the poses that could hold enough, in the pose's
+        # frame; fmath's Python-float sincos for a few headings (a straight drive's are 0)
+        k, i = np.nonzero(close[steps])
+        s, c = np.array([fmath.sincos(theta) for theta in poses[steps, 2].tolist()]).T
+        s, c = s[k], c[k]
+        pair_dx, pair_dy = dx[steps[k], i], dy[steps[k], i]
+        seen = np.empty((len(k), 2))
+        seen[:, 0] = pair_dx * c + pair_dy * s
+        seen[:, 1] = -pair_dx * s + pair_dy * c
+        inside = self.inside(seen)
+        counts = np.bincount(k[inside], minlength=len(steps))
+        hits = np.flatnonzero(counts >= self.min_points)
         if len(hits) == 0:
             return -1.0, _NO_POINTS
-        k = int(hits[0])
-        return times[k], near[inside[k]]
+        first = int(hits[0])
+        return times[int(steps[first])], near[i[(k == first) & inside]]
 
     def reach(self) -> float:
         """The furthest any point of the zone is from the robot's origin."""
-        if self.vertices is None or len(self.vertices) == 0:
-            return 0.0
-        v = self.vertices
-        return float(np.sqrt(np.max(v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1])))
+        return self.shape().reach
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self.name!r}, {self.params.action_type})"

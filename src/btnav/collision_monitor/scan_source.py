@@ -26,6 +26,9 @@ class ScanSource(Source):
     _odom_pose: Pose2D | None = None
     #: The scan's readings in range, as points in its own frame.
     _local: NDArray[np.float64] = np.zeros((0, 2))
+    #: sin and cos of the beams' angles, and the (angle_min, increment, beams) they are for.
+    _directions: tuple[NDArray[np.float64], NDArray[np.float64]] = (np.zeros(0), np.zeros(0))
+    _directions_of: tuple[float, float, int] | None = None
 
     def receive(self, scan: LaserScan) -> None:
         """Keep the newest scan as points in its own frame (a scan arrives at the lidar's
@@ -36,8 +39,17 @@ class ScanSource(Source):
         ranges = scan.ranges  # compared in float32, as Nav2 compares the message's floats
         ok = (ranges >= np.float32(scan.range_min)) & (ranges <= np.float32(scan.range_max))
         r = ranges[ok].astype(float)
-        s, c = fmath.sincos(scan.angles[ok])
-        self._local = np.stack([r * c, r * s], axis=-1)
+        s, c = self._beam_directions(scan)
+        self._local = np.stack([r * c[ok], r * s[ok]], axis=-1)
+
+    def _beam_directions(self, scan: LaserScan) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """sin and cos of every beam's angle: a lidar's beams keep their angles, so they
+        are worked out once per (angle_min, angle_increment, beams)."""
+        key = (scan.angle_min, scan.angle_increment, len(scan.ranges))
+        if self._directions_of != key:
+            self._directions = fmath.sincos(scan.angles)
+            self._directions_of = key
+        return self._directions
 
     def keep_scan_of(self, previous: ScanSource) -> None:
         """Take over `previous`'s scan as it received it (a rebuild on new params)."""

@@ -374,6 +374,10 @@ class RegulatedPurePursuitController(Controller):
         n = min(n, 10_000)
         if n == 0:
             return False
+        # the arc's n steps of |dt linear| stay within that distance of the robot: with no
+        # inscribed cell that near (most cycles), no step can be in collision
+        if not _inscribed_near(costmap, pose.x, pose.y, n * abs(dt * linear) + res):
+            return False
         if n <= _SCALAR_STEPS:
             return _arc_collides(costmap, pose, dt * linear, dt, angular, n, limit)
         k = np.arange(n)
@@ -433,6 +437,21 @@ def _arc_collides(
             if cost >= INSCRIBED_INFLATED_OBSTACLE and cost != NO_INFORMATION:
                 return True
     return False
+
+
+def _inscribed_near(costmap: Costmap2D, x: float, y: float, radius: float) -> bool:
+    """Whether a cell of the square of half-side `radius` around (x, y) is inscribed or
+    worse (unknown is not): the cells the arc's points can fall in (floor is monotone)."""
+    res = costmap.resolution
+    ny, nx = costmap.costs.shape
+    x0 = max(math.floor((x - radius - costmap.origin_x) / res), 0)
+    x1 = min(math.floor((x + radius - costmap.origin_x) / res) + 1, nx)
+    y0 = max(math.floor((y - radius - costmap.origin_y) / res), 0)
+    y1 = min(math.floor((y + radius - costmap.origin_y) / res) + 1, ny)
+    if x0 >= x1 or y0 >= y1:
+        return False
+    window = costmap.costs[y0:y1, x0:x1]
+    return bool(((window >= INSCRIBED_INFLATED_OBSTACLE) & (window != NO_INFORMATION)).any())
 
 
 def _in_collision(costmap: Costmap2D, xy: NDArray[np.float64]) -> NDArray[np.bool_]:
