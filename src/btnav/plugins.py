@@ -80,12 +80,24 @@ class Plugin:
     costmap_ros: Any = None
 
     def __init__(self, name: str, params: Any = None) -> None:
+        """Built as pluginlib builds it: by name, before anything is handed over.
+
+        Args:
+            name: the instance's name in the params file (`FollowPath`, `GridBased`).
+            params: its validated `Params` (the server validates the section); None for
+                the defaults.
+        """
         self.name = name
         self.params = params if params is not None else type(self).Params()
 
     def configure(self, costmap_ros: Any) -> None:
         """nav2_core's configure(): the server hands over its costmap server, once, after
-        construction, so a footprint-aware planner or controller can see the footprint."""
+        construction, so a footprint-aware planner or controller can see the footprint.
+
+        Args:
+            costmap_ros: the plugin's costmap server (`CostmapROS`: the layered costmap,
+                footprint, inscribed and circumscribed radii, frames).
+        """
         self.costmap_ros = costmap_ros
 
 

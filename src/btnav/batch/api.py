@@ -54,12 +54,29 @@ def run_batch(
     origins: Mapping[str, str] | None = None,
     progress: Progress | None = None,
 ) -> BatchOutcome:
-    """Run missions x seeds x swept values into `out` (default `out/batch`); one `RunRecord`
-    per run.
+    """Run missions x seeds x swept values into `out`, each run in a fresh process.
 
-    `seeds` None runs each mission's own seed. `sweep` maps a `--set` key (a dotted
-    params key or `mission.*`) to its values. Runs already in `out/results.csv` are not
-    run again. A user's mistake anywhere raises a `BtnavError` before any run starts.
+    Runs already in `out/results.csv` are not run again, so a second call finishes an
+    interrupted batch. A user's mistake anywhere raises a `BtnavError` before any run
+    starts; a run that fails is a record with its status, not an exception.
+
+    Args:
+        missions: mission YAML files (a staged mission is one job).
+        out: the batch folder: `results.csv`, the summary, one folder per run.
+        seeds: the seeds to run each mission with; None runs each mission's own seed.
+        sweep: a `--set` key (a dotted params key or `mission.*`) mapped to its values;
+            the batch runs their cartesian product.
+        workers: processes at once (None: every core this process may use).
+        backend: `local` (processes on this machine) or `ray` (the `ray` extra).
+        address: the Ray cluster to join (None: start a local one).
+        overrides: `--set` values applied to every run.
+        origins: each override's `--set KEY=VALUE` as typed, for error messages.
+        progress: told of each finished run (`btnav batch` draws its bar with it).
+
+    Returns:
+        One `RunRecord` per run in batch order (mission, swept values, seed), whichever
+        order they ended in; `.lost` holds jobs a Ray node took down with it and
+        `.summary_files` the summary files written.
     """
     if backend not in BACKENDS:
         raise BatchError(f"unknown backend '{backend}' (have: {', '.join(BACKENDS)})")

@@ -90,7 +90,15 @@ def _safe(text: str) -> str:
 
 
 def parse_seeds(text: str, *, origin: str | None = None) -> list[int]:
-    """`0:10` (0..9), `5`, `1,4,7` or `0:100:10` -> the seeds, in order, without repeats."""
+    """The seeds of a `--seeds` option, in order, without repeats.
+
+    Args:
+        text: `0:10` (0..9, as Python's range), `5`, `1,4,7` or `0:100:10`.
+        origin: where the text came from, for the error (default `--seeds TEXT`).
+
+    Returns:
+        The seeds; a malformed or empty text raises `BatchError`.
+    """
     where = origin or f"--seeds {text}"
     try:
         if ":" in text:
@@ -120,7 +128,16 @@ def _decimal(text: str) -> Decimal | None:
 
 
 def parse_values(text: str, *, origin: str) -> list[Any]:
-    """`0.3,0.5` or `0.3:0.7:0.1` (stop included) -> the values, each read as YAML."""
+    """The values of one swept key.
+
+    Args:
+        text: `0.3,0.5` (each read as YAML) or `0.3:0.7:0.1` (a range, stop included,
+            counted in exact decimals so 0.1 steps land on 0.3, 0.4, ...).
+        origin: the option as typed, for the error.
+
+    Returns:
+        The values, ints when every part of a range is integral.
+    """
     parts = text.split(":")
     if len(parts) == 3 and all(_decimal(p) is not None for p in parts):
         start, stop, step = (_decimal(p) for p in parts)
@@ -149,7 +166,14 @@ def parse_values(text: str, *, origin: str) -> list[Any]:
 
 
 def parse_sweep(texts: Sequence[str]) -> tuple[dict[str, list[Any]], dict[str, str]]:
-    """`--sweep KEY=V1,V2` options -> values by key, and each key's option as typed."""
+    """The `--sweep KEY=V1,V2` options of a command line.
+
+    Args:
+        texts: each option's text, `KEY=V1,V2,...` or `KEY=START:STOP:STEP`.
+
+    Returns:
+        The values by key (repeats dropped) and each key's option as typed (for errors).
+    """
     sweep: dict[str, list[Any]] = {}
     origins: dict[str, str] = {}
     for text in texts:

@@ -40,7 +40,17 @@ COLUMNS = (
 
 
 def wilson_interval(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """The Wilson score interval of a binomial proportion (0, 1 when there are no trials)."""
+    """The Wilson score interval of a success rate: honest at 0 and 100 % and on few runs,
+    where the normal approximation's interval leaves [0, 1].
+
+    Args:
+        successes: runs that succeeded.
+        n: runs.
+        z: the normal quantile (default 1.96, a 95 % interval).
+
+    Returns:
+        (low, high); (0, 1) when there are no runs.
+    """
     if n == 0:
         return 0.0, 1.0
     p = successes / n
@@ -81,7 +91,16 @@ def _stat(values: list[float], q: float | None = None) -> float | None:
 
 
 def summarize(records: Sequence[RunRecord]) -> list[GroupSummary]:
-    """One summary per (mission, swept values), in the order the groups first appear."""
+    """Group runs by mission and swept values, as `summary.md` shows them.
+
+    Args:
+        records: the batch's records (`run_batch`'s outcome, or `results.csv`'s rows).
+
+    Returns:
+        One `GroupSummary` per (mission, swept values), in the order the groups first
+        appear: success rate with its Wilson interval, sim time median and p95 and path
+        length median of the successful runs, collisions and recoveries per run.
+    """
     groups: dict[tuple[str, ...], list[RunRecord]] = {}
     for r in records:
         groups.setdefault((r.mission, *r.sweep.values()), []).append(r)

@@ -103,6 +103,13 @@ class Behavior:
         env: BehaviorEnv,
         collision_checker: CollisionChecker | None = None,
     ) -> None:
+        """behavior_server hands over what every behaviour shares, once, after construction.
+
+        Args:
+            server: behavior_server's shared keys (cycle_frequency, frames, limits).
+            env: the robot: transforms and the velocity command (a `Runtime`).
+            collision_checker: checks poses on the local costmap; None skips the checks.
+        """
         self.server = server
         self.env = env
         self.collision_checker = collision_checker
@@ -110,11 +117,26 @@ class Behavior:
     # -- what behaviours implement ----------------------------------------------------
 
     def on_run(self, goal: Any, now: float) -> BehaviorOutcome | None:
-        """A goal starts; None to go on, or a failed result."""
+        """A goal starts (nav2_behaviors' onRun).
+
+        Args:
+            goal: the action's goal (`SpinGoal`, `BackUpGoal`, ...).
+            now: sim seconds.
+
+        Returns:
+            None to go on to `on_cycle_update`, or a failed outcome with Nav2's code.
+        """
         raise NotImplementedError
 
     def on_cycle_update(self, now: float) -> BehaviorOutcome | None:
-        """One cycle; None while running, a result to finish."""
+        """One cycle at `cycle_frequency` (nav2_behaviors' onCycleUpdate).
+
+        Args:
+            now: sim seconds.
+
+        Returns:
+            None while running; the outcome (succeeded, or failed with Nav2's code) to end.
+        """
         raise NotImplementedError
 
     def on_action_completion(self) -> None:

@@ -50,6 +50,12 @@ class Localizer(Plugin):
         super().__init__(name, localizer_params(type(self).Params, params))
 
     def configure(self, context: LocalizerContext) -> None:  # type: ignore[override]
+        """The runtime hands itself over once; subscribe to `scan` and `odom` here.
+
+        Args:
+            context: the runtime: world, frame tree, sim clock, seed, the latest odometry
+                and scan, and `subscribe(topic, callback)`.
+        """
         self.context = context
 
 

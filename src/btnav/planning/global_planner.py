@@ -28,4 +28,18 @@ class GlobalPlanner(Plugin):
         costmap: Costmap2D,
         cancel_checker: Callable[[], bool] | None = None,
     ) -> Path:
+        """Plan from `start` to `goal` (ComputePathToPose's `createPlan`).
+
+        Args:
+            start: the robot, in the costmap's frame.
+            goal: the goal, in the costmap's frame.
+            costmap: the global costmap, read only.
+            cancel_checker: polled in long searches; True means the goal was cancelled
+                or `max_planning_time` ran out (raise `PlannerCancelled`/`PlannerTimedOut`).
+
+        Returns:
+            The path, start first and the goal last, in the costmap's frame. A failure
+            raises one of `planning.exceptions` (`NoValidPathCouldBeFound`,
+            `GoalOccupied`, ...), never an empty path.
+        """
         raise NotImplementedError

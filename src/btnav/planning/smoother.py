@@ -37,4 +37,14 @@ class Smoother(Plugin):
         costmap: Costmap2D | None = None,
         cancel_checker: Callable[[], bool] | None = None,
     ) -> Smoothed:
+        """Smooth `path` (SmoothPath's `smooth`).
+
+        Args:
+            path: the planned path, in the costmap's frame.
+            costmap: the costmap to keep clear of (None for a smoother that ignores it).
+            cancel_checker: polled while smoothing; True means time is up.
+
+        Returns:
+            The smoothed path and whether smoothing converged.
+        """
         raise NotImplementedError
