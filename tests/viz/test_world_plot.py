@@ -94,7 +94,7 @@ robot:
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
     assert draw_world(world, scan, ax) is ax
-    labels = ax.get_legend_handles_labels()[1]
+    labels = [text.get_text() for text in ax.get_legend().get_texts()]  # what the user sees
     assert {"walls and obstacles", "moving obstacle", "route", "robot"} <= set(labels)
     assert any(label.startswith("scan (") for label in labels)
     fig.savefig(tmp_path / "tiny.png")

@@ -20,6 +20,7 @@ import numpy as np
 from ..costmap.cost_values import FREE_SPACE, NO_INFORMATION
 from ..mission.outputs import RunOutput
 from ..plugins import register
+from .legend import legend_entries
 from .world_plot import _figsize, _matplotlib, draw_world
 
 if TYPE_CHECKING:
@@ -137,12 +138,10 @@ def draw_run(run: RunOutput) -> Figure:
     _draw_particles(ax, run.navigator.runtime.localizer, track)
     _draw_contacts(ax, world.contacts)
     ax.set_title(_title(run.report, _has_particles(run.navigator.runtime.localizer)), fontsize=9)
-    handles, labels = ax.get_legend_handles_labels()
     from matplotlib.patches import Patch
 
-    handles.append(Patch(facecolor="#6a51a3", alpha=COSTMAP_ALPHA, label=LEGEND_COSTMAP))
-    labels.append(LEGEND_COSTMAP)
-    unique = dict(zip(labels, handles, strict=True))
+    unique = legend_entries(ax)
+    unique.setdefault(LEGEND_COSTMAP, Patch(facecolor="#6a51a3", alpha=COSTMAP_ALPHA))
     ax.legend(
         unique.values(),
         unique.keys(),

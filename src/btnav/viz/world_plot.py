@@ -16,6 +16,7 @@ import numpy as np
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan
+from .legend import legend_entries
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -197,8 +198,7 @@ def draw_world(
     ax.set_ylabel("y (m)")
     ax.set_title(f"{world.spec.world}: robot at ({pose.x:.2f}, {pose.y:.2f}, {pose.yaw:.2f})")
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    handles, labels = ax.get_legend_handles_labels()
-    unique = dict(zip(labels, handles, strict=True))
+    unique = legend_entries(ax)
     if unique:
         ax.legend(unique.values(), unique.keys(), loc="upper right", fontsize=7, framealpha=0.85)
     return ax
