@@ -51,8 +51,8 @@ from btnav.maps import OccupancyGrid, load_map, save_map  # noqa: E402
 from btnav.sim import raycast  # noqa: E402
 from btnav.sim.lidar import Lidar  # noqa: E402
 from btnav.sim.odometry import make_odometry  # noqa: E402
-from btnav.sim.sensors import make_sensors  # noqa: E402
 from btnav.sim.world import World  # noqa: E402
+from btnav.sim.world_sensors import make_sensors  # noqa: E402
 from btnav.sim.world_spec import WorldSpec  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]

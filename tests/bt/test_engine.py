@@ -115,22 +115,6 @@ def test_children_changed_after_a_tick_are_the_ones_the_next_tick_reaches():
     assert seq.execute_tick() is S and [c.name for c in seq.children] == ["e"]
 
 
-def test_the_plain_path_holds_only_inside_a_tick_and_is_restored_after_an_error():
-    from btnav.bt.tick_state import TICK
-
-    seen: list[bool] = []
-
-    class Boom(LeafNode):
-        def update(self) -> Status:
-            seen.append(TICK.plain)
-            raise RuntimeError("boom")
-
-    assert TICK.plain is False
-    with pytest.raises(RuntimeError):
-        Boom("b").tick_once()
-    assert seen == [True] and TICK.plain is False
-
-
 def test_a_control_written_with_yield_is_refused_with_the_fix():
     with pytest.raises(TypeError, match="return the status instead"):
 

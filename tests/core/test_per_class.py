@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from btnav.bt.nav2_controls import PipelineSequence, RecoveryNode
 from btnav.core.per_class import copy_hot_methods, original
 
 
@@ -49,8 +48,3 @@ def test_an_override_is_left_alone_and_its_subclasses_copy_it_with_super_intact(
     assert "hot" in Grandchild.__dict__ and original(Grandchild.hot) is Grandchild.hot
     assert original(GreatGrandchild.hot) is Grandchild.__dict__["hot"]
     assert GreatGrandchild().hot(3) == 107  # super() still starts after Grandchild
-
-
-def test_every_tree_node_class_ticks_its_own_copy():
-    assert RecoveryNode.execute_tick is not PipelineSequence.execute_tick
-    assert original(RecoveryNode.execute_tick) is original(PipelineSequence.execute_tick)

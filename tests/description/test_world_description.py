@@ -20,8 +20,8 @@ from btnav.core.errors import BtnavError, BtnavWarning, WorldError
 from btnav.core.messages import LaserScan
 from btnav.mission import Mission
 from btnav.sim.frames import world_frame_tree
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 
 from ..mission.missions import WORLD, write_mission
 

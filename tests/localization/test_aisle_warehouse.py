@@ -22,8 +22,8 @@ from btnav.maps import load_map
 from btnav.mission import Mission, run_mission
 from btnav.mission.navigator import Navigator
 from btnav.sim.rasterize import rasterize
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "aisle_warehouse.yaml"

@@ -23,8 +23,8 @@ from btnav.core.geometry import Pose2D
 from btnav.localization.amcl import LaserData, LikelihoodFieldModel, MapField
 from btnav.maps import load_map
 from btnav.maps.occupancy_grid import OccupancyGrid
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 
 REPO = Path(__file__).resolve().parents[2]
 AISLE_WORLD = REPO / "worlds" / "aisle_warehouse.yaml"

@@ -18,8 +18,8 @@ import numpy as np
 
 from btnav.localization.amcl import LaserData, LikelihoodFieldModel, MapField
 from btnav.maps import load_map
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "small_office.yaml"

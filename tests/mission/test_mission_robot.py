@@ -11,7 +11,7 @@ from btnav.cli import main
 from btnav.core.errors import BtnavError, BtnavWarning
 from btnav.description import load_description
 from btnav.mission import Mission, run_mission
-from btnav.sim.sensors import make_sensors
+from btnav.sim.world_sensors import make_sensors
 
 REPO = Path(__file__).resolve().parents[2]
 BURGER = REPO / "robots" / "turtlebot3_burger.urdf.xacro"

@@ -14,7 +14,7 @@ from btnav.core.geometry import Pose2D, angle_diff
 from btnav.core.nav2_docking_msgs import DockRobotGoal, UndockRobotGoal
 from btnav.mission import Mission
 from btnav.mission.runner import run_mission
-from btnav.navigators.navigator import BasicNavigator
+from btnav.navigators.basic_navigator import BasicNavigator
 from btnav.sim.world import World
 from btnav.sim.world_spec import load_world_spec
 

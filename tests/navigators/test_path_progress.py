@@ -12,6 +12,7 @@ import pytest
 
 from btnav.core import fmath
 from btnav.core.messages import Path
+from btnav.core.path_utils import first_after_integrated_distance
 from btnav.navigators.path_progress import PathProgress
 
 
@@ -235,23 +236,17 @@ def test_a_changed_search_window_holds_from_the_next_path():
 
 @pytest.mark.parametrize("make", [grid_path, cell_centre_path, wavy_path])
 def test_every_window_ends_where_nav2s_cumsum_and_searchsorted_end_it(make):
-    """The window ends of many starts at once (ties within rounding resolved together,
-    one sequential sum per start) are Nav2's, start by start: grid paths tie most."""
+    """The window's end (core.path_utils, at or past `search_window`) is Nav2's, start by
+    start: grid paths tie within rounding most."""
     rng = np.random.default_rng(13)
     for _ in range(200):
         poses = make(rng)
         window = float(rng.choice([0.5, 2.0, 0.025 * rng.integers(1, 40), 1e9]))
-        progress = PathProgress(lambda w=window: w)
-        progress.remaining(Path(0.0, poses), float(poses[0, 0]), float(poses[0, 1]))
         seg = fmath.hypot(*np.diff(poses[:, :2], axis=0).T)
-        count = int(rng.integers(1, 12))
-        if rng.random() < 0.5:  # as the search asks for them: consecutive poses
-            first = int(rng.integers(len(poses)))
-            starts = list(range(first, min(first + count, len(poses))))
-        else:
-            starts = [int(i) for i in rng.permutation(len(poses))[:count]]
-        want = [i + 1 + int(np.searchsorted(np.cumsum(seg[i:]), window)) for i in starts]
-        assert progress._windows(np.array(starts)) == want
+        for i in rng.permutation(len(poses))[:12].tolist():
+            want = i + 1 + int(np.searchsorted(np.cumsum(seg[i:]), window))
+            got = first_after_integrated_distance(seg, i, window, reaching=True)
+            assert got == min(want, len(poses))
 
 
 def tangled_path(rng: np.random.Generator) -> np.ndarray:

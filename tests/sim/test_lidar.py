@@ -235,8 +235,8 @@ robot:
 
 
 def room_world(noise: float = 0.0, seed: int = 0):
-    from btnav.sim.sensors import make_sensors
     from btnav.sim.world import World
+    from btnav.sim.world_sensors import make_sensors
     from btnav.sim.world_spec import WorldSpec
 
     world = World(WorldSpec.from_text(ROOM_WORLD.replace("NOISE", str(noise))), seed=seed)

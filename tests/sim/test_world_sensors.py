@@ -11,8 +11,8 @@ from pydantic import Field
 from btnav.core.errors import PluginError, WorldError
 from btnav.plugins import register, unregister
 from btnav.sim.sensor import Sensor
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 from btnav.sim.world_spec import WorldSpec
 
 NAME = "test/NoisyCompass"

@@ -12,8 +12,8 @@ from btnav.cli import main as cli_main
 from btnav.cli.world import show_world_main
 from btnav.core.errors import BtnavError
 from btnav.sim import lidar as _lidar  # noqa: F401  (registers the lidar plugin)
-from btnav.sim.sensors import make_sensors
 from btnav.sim.world import World
+from btnav.sim.world_sensors import make_sensors
 from btnav.sim.world_spec import WorldSpec
 from btnav.viz.world_plot import MOVING_COLOR, ROBOT_COLOR, SCAN_COLOR, draw_world
 

@@ -14,10 +14,7 @@ Where py_trees ends and btnav begins:
   nodes of every steady tick of Nav2's trees, the selectors, RecoveryNode and
   FollowPath, read and write those keys themselves where that is exactly what
   py_trees' `get_input`/`_set_output` would do, and call them otherwise).
-  `tick_once()` asks py_trees once whether the tick may take that plain path
-  (`tick_state`), then runs `execute_tick()`. Each node class holds its own copy of the
-  tick methods it inherits (`core/per_class.py`), so that CPython specialises every
-  lookup of a tick to one class, and the built-in controls and decorators call their
+  `tick_once()` runs `execute_tick()`. The built-in controls and decorators call their
   children through `child_ticks`, the children's `execute_tick`s bound once (a call
   site that meets many classes is never specialised). py_trees' generator `tick()`
   still works (for `py_trees.trees.BehaviourTree` and its visitors): it runs the same
@@ -53,9 +50,7 @@ import py_trees.logging as _pt_logging
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-from ..core.per_class import copy_hot_methods
 from .ports import BoundPortsMixin, PortInformation, input_port, output_port
-from .tick_state import TICK, plain_now
 
 __all__ = [
     "TIME_EPS",
@@ -80,18 +75,6 @@ TIME_EPS = 1e-9
 
 #: BT.CPP's NodeStatus, as every node file spells them.
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
-
-
-#: A node's tick, method by method: each node class gets its own copy of those it
-#: inherits (`copy_hot_methods`), so the tick's lookups are specialised per class.
-_TICK_METHODS = (
-    "tick_once",
-    "execute_tick",
-    "tick_children",
-    "tick_decorated",
-    "tick_child",
-    "update",
-)
 
 
 def halt(node: Behaviour) -> None:
@@ -176,7 +159,6 @@ class _BtNode(BoundPortsMixin):
                     f"{cls.__name__}.{hook} is a generator: btnav ticks with plain calls; "
                     f"return the status instead (`status = self.tick_child(...)`, no yield)"
                 )
-        copy_hot_methods(cls, _TICK_METHODS)
 
     # -- the tick ---------------------------------------------------------------------------
 
@@ -193,12 +175,7 @@ class _BtNode(BoundPortsMixin):
 
     def tick_once(self) -> None:
         """py_trees' `tick_once`, without generators."""
-        outer = TICK.plain  # (a node may tick another tree inside its own tick)
-        TICK.plain = plain_now()
-        try:
-            self.execute_tick()
-        finally:
-            TICK.plain = outer
+        self.execute_tick()
 
     def tick(self) -> Iterator[Behaviour]:
         """py_trees' generator tick, for `py_trees.trees.BehaviourTree` and its visitors: the
@@ -424,8 +401,7 @@ class LeafNode(_BtNode, Behaviour):
     def execute_tick(self) -> Status:
         """py_trees' Behaviour.tick, step for step, as one call (its debug message only
         formatted when py_trees logs at DEBUG: leaves are most of a tree's ticks)."""
-        debug = not TICK.plain and _pt_logging.level < _INFO
-        if debug:
+        if _pt_logging.level < _INFO:
             self.logger.debug(f"{type(self).__name__}.tick()")
         if self.status is not R and self._INITIALISES:
             self.initialise()
@@ -440,13 +416,7 @@ class LeafNode(_BtNode, Behaviour):
                 f"[{new_status}][{self.name}]"
             )
             new_status = _INVALID
-        if self._OWN_STOP or debug:
-            self.stop(new_status)
-        else:  # _BtNode.stop, inline
-            if self._TERMINATES:
-                self.terminate(new_status)
-            if new_status is not self.status:
-                self.set_status(new_status)
+        self.stop(new_status)
         return new_status
 
     def update(self) -> Status:

@@ -28,7 +28,6 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar
 
-from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
@@ -41,16 +40,13 @@ from ..core.nav2_msgs import (
     FollowPathGoal,
     SmoothPathGoal,
 )
-from ..core.per_class import original
 from ..core.suggest import best_match
 from ..nav.actions import GoalHandle, GoalStatus
 from ..plugins import register
 from .base import F, R, S, input_port, output_port
+from .blackboard import read, recording
 from .nav2_context import Nav2Leaf, PoseLike, empty_path, increment_recovery_count, same_path
-from .tick_state import TICK
 
-_STORAGE: dict[str, Any] = Blackboard.storage
-_STORAGE_GET = _STORAGE.get  # bound once: reading a dict's method is not specialised
 _UNSET = object()
 _EXECUTING = GoalStatus.EXECUTING
 
@@ -398,8 +394,8 @@ class FollowPath(BtActionNode):
         #: Whether a tick may take the short way (`execute_tick`): not for a subclass with
         #: its own `update` or `on_wait_for_result`, whose full tick may do more.
         self._steady = (
-            original(cls.update) is BtActionNode.update
-            and original(cls.on_wait_for_result) is FollowPath.on_wait_for_result
+            cls.update is BtActionNode.update
+            and cls.on_wait_for_result is FollowPath.on_wait_for_result
         )
         self._matched = None
         super().__init__(name, **kwargs)
@@ -425,15 +421,14 @@ class FollowPath(BtActionNode):
         """Whether the goal and the four ports' entries are the very objects the goal was
         last found to match (paths and ids are never changed in place): it still does."""
         matched = self._matched
-        if matched is None or matched[0] is not self.goal or not TICK.plain:
+        if matched is None or matched[0] is not self.goal or recording():
             return False
-        get = _STORAGE_GET
         k_path, k_controller, k_goal_checker, k_progress_checker = self._watch_keys  # type: ignore[misc]
         return (
-            get(k_path, _UNSET) is matched[1]
-            and get(k_controller, _UNSET) is matched[2]
-            and get(k_goal_checker, _UNSET) is matched[3]
-            and get(k_progress_checker, _UNSET) is matched[4]
+            read(k_path, _UNSET) is matched[1]
+            and read(k_controller, _UNSET) is matched[2]
+            and read(k_goal_checker, _UNSET) is matched[3]
+            and read(k_progress_checker, _UNSET) is matched[4]
         )
 
     def on_wait_for_result(self, feedback: Any) -> None:
@@ -454,9 +449,8 @@ class FollowPath(BtActionNode):
             # a new goal object: the running goal keeps what it was sent
             self.goal = dataclasses.replace(goal, **changes)
             self.goal_updated = True
-        elif self._watch_keys is not None and TICK.plain:
-            get = _STORAGE_GET
-            self._matched = (goal, *(get(k, _UNSET) for k in self._watch_keys))
+        elif self._watch_keys is not None and not recording():
+            self._matched = (goal, *(read(k, _UNSET) for k in self._watch_keys))
         if feedback is not None:
             self._set_output("tracking_feedback", feedback)
 

@@ -24,12 +24,12 @@ from collections.abc import Sequence
 from typing import Any, ClassVar
 
 import numpy as np
-import py_trees
 from py_trees.common import Status
 
 from ..core.errors import BtnavError
 from ..core.geometry import Pose2D
 from ..core.messages import Path, PoseStamped
+from . import blackboard
 from .base import LeafNode
 
 #: What a pose port accepts: a `Pose2D` (in the global frame) or a `PoseStamped`.
@@ -64,12 +64,12 @@ INFINITY = NumericLimitsInfinity()
 
 def recovery_count() -> int:
     """Nav2's `number_recoveries` (0 when no recovery has run)."""
-    return int(py_trees.blackboard.Blackboard.storage.get(RECOVERIES_KEY) or 0)
+    return int(blackboard.read(RECOVERIES_KEY) or 0)
 
 
 def increment_recovery_count() -> None:
     """What a Nav2 recovery node does when it starts (Spin, BackUp, Wait, clear costmap)."""
-    py_trees.blackboard.Blackboard.set(RECOVERIES_KEY, recovery_count() + 1)
+    blackboard.write(RECOVERIES_KEY, recovery_count() + 1)
 
 
 def empty_path(frame_id: str = DEFAULT_GLOBAL_FRAME, stamp: float = 0.0) -> Path:

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, ClassVar
+from typing import ClassVar
 
-from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.composites import Selector as _PtSelector
 from py_trees.composites import Sequence as _PtSequence
@@ -14,9 +13,6 @@ from py_trees.ports import PortInformation
 from ..plugins import register
 from .base import ControlNode, F, R, S, is_skipped
 from .errors import TreeError
-from .tick_state import TICK
-
-_STORAGE: dict[str, Any] = Blackboard.storage
 
 
 @register("bt_node", "PipelineSequence")
@@ -72,14 +68,6 @@ class RecoveryNode(ControlNode, _PtSelector):
     }
     CHILDREN: ClassVar = (2, 2)
 
-    #: The storage key `number_of_retries` is bound to (None: not bound).
-    _retries_key: str | None = None
-
-    def setup_ports(self, *args: Any, **kwargs: Any) -> None:
-        super().setup_ports(*args, **kwargs)
-        slot = self.bound_inputs.get("number_of_retries")
-        self._retries_key = slot.key if slot is not None else None
-
     def reset_state(self) -> None:
         self.current_child_idx = 0
         self.retry_count = 0
@@ -93,11 +81,7 @@ class RecoveryNode(ControlNode, _PtSelector):
         ticks = self.child_ticks
         if ticks is None:
             ticks = self.bind_child_ticks()
-        # get_input("number_of_retries"), read straight from its key when that holds an int
-        key = self._retries_key
-        retries = _STORAGE.get(key) if key is not None else None
-        if type(retries) is not int or not TICK.plain:
-            retries = self.get_input("number_of_retries")
+        retries = self.get_input("number_of_retries")
         children = self.children
         while (index := self.current_child_idx) < 2 and self.retry_count <= retries:
             child = children[index]

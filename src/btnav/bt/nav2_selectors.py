@@ -12,17 +12,13 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
-from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from py_trees.ports import PortInformation
 
-from ..core.per_class import original
 from ..plugins import register
 from .base import S
+from .blackboard import recording, write
 from .nav2_context import Nav2Leaf
-from .tick_state import TICK
-
-_STORAGE: dict[str, Any] = Blackboard.storage
 
 
 class _Selector(Nav2Leaf):
@@ -42,7 +38,7 @@ class _Selector(Nav2Leaf):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        cls._STEADY = cls._HOOKLESS and original(cls.update) is _Selector.update
+        cls._STEADY = cls._HOOKLESS and cls.update is _Selector.update
 
     def __init__(self, name: str, **kwargs: Any) -> None:
         self._select("")  # (tick state first: _BtNode's note)
@@ -65,10 +61,10 @@ class _Selector(Nav2Leaf):
         """Once a selection is made a tick of an active selector only writes it again (five
         selectors tick 100 times a second): that write, straight to its bound key, where
         the full tick would do nothing else (no hooks, no logging, no activity stream)."""
-        if self.status is S and TICK.plain:
+        if self.status is S and not recording():
             key = self._steady_key
             if key is not None:
-                _STORAGE[key] = self.last_selected
+                write(key, self.last_selected)
                 return S
         return super().execute_tick()
 

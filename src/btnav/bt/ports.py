@@ -6,10 +6,10 @@ and constant values: btnav uses all of that as it is. What py_trees then does on
 every read and write (find the port, ask the client whether it is registered,
 resolve its key, check its type generically) is done here once, at build time:
 `setup_ports` binds each port to its storage key and its type check, and a read is
-a dict lookup. Whatever the bound path cannot answer exactly (an unset port without
-a default raising, a value of the wrong type, a port used before `setup_ports` or
-outside a tick, the blackboard's activity stream switched on: `tick_state`) goes
-through py_trees' own code, so the results, errors and recorded activity are py_trees'.
+a dict lookup (`blackboard.read`). Whatever the bound path cannot answer exactly (an
+unset port without a default raising, a value of the wrong type, a port used before
+`setup_ports`, the blackboard's activity stream switched on) goes through py_trees'
+own code, so the results, errors and recorded activity are py_trees'.
 
 A node reads a port one of two ways, as BT.CPP's `getInput` is used: `get_input`
 raises `NoDataAvailable` for an unset port without a default; `optional` returns None.
@@ -25,11 +25,9 @@ from py_trees.blackboard import Blackboard
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin
 from py_trees.ports_utils import is_instance_of_type
 
-from .tick_state import TICK
+from .blackboard import read, recording, write
 
 _MISSING = object()
-#: py_trees' blackboard storage: one dict for the process, cleared in place, never rebound.
-_STORAGE: dict[str, Any] = Blackboard.storage
 #: Port defaults returned as they are (py_trees deep-copies a default; these need not be).
 _IMMUTABLE = frozenset({str, int, float, bool, bytes})
 
@@ -120,8 +118,8 @@ class BoundPortsMixin(PortsMixin):
         """py_trees' `get_input`: the port's value, else `default`, else its declared
         default, else `NoDataAvailable`."""
         slot = self.bound_inputs.get(port_name)
-        if slot is not None and TICK.plain:
-            value = _STORAGE.get(slot.key, _MISSING)
+        if slot is not None and not recording():
+            value = read(slot.key, _MISSING)
             if value is _MISSING:
                 if default is not None:
                     return default
@@ -136,8 +134,8 @@ class BoundPortsMixin(PortsMixin):
         """The input port's value, or None when it has no data and no default (BT.CPP's
         `getInput` returning false)."""
         slot = self.bound_inputs.get(port_name)
-        if slot is not None and TICK.plain:
-            value = _STORAGE.get(slot.key, _MISSING)
+        if slot is not None and not recording():
+            value = read(slot.key, _MISSING)
             if value is _MISSING:
                 return None if slot.default is _MISSING else slot.declared_default()
             if value is not None and isinstance(value, slot.types):
@@ -149,7 +147,7 @@ class BoundPortsMixin(PortsMixin):
 
     def _set_output(self, port_name: str, value: Any) -> None:
         slot = self.bound_outputs.get(port_name)
-        if slot is not None and TICK.plain and isinstance(value, slot.types):
-            _STORAGE[slot.key] = value
+        if slot is not None and not recording() and isinstance(value, slot.types):
+            write(slot.key, value)
             return
         super()._set_output(port_name, value)

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from typing import TextIO
 
 from ..mission.run_status import current_waypoint, format_status, running_actions
-from ..navigators.navigator import BasicNavigator
+from ..navigators.basic_navigator import BasicNavigator
 
 #: Wall seconds between redraws: often enough to look live, rarely enough to cost nothing.
 REDRAW_INTERVAL = 0.25

@@ -12,8 +12,9 @@ With `enforce_path_inversion` (a cusp where the plan reverses direction) or
 constraint; once the robot is within `inversion_xy_tolerance` /
 `inversion_yaw_tolerance` of that pose, the rest of the plan is released.
 
-The helpers `integrated_index` and `closest_index` are vectorised and shared with
-the controllers (DWB, RPP) that prune a plan themselves.
+The helpers `integrated_index` and `closest_index` (on `core.path_utils`, the one window
+search) serve the controllers (DWB, RPP) that prune a plan themselves and the tree's
+nodes that measure along a path.
 """
 
 from __future__ import annotations
@@ -27,20 +28,29 @@ from pydantic import Field
 from ..core import fmath
 from ..core.geometry import Pose2D, angle_diff, compose_arrays
 from ..core.messages import Path
+from ..core.path_utils import (
+    closest_pose,
+    first_after_integrated_distance,
+    first_beyond,
+    segment_lengths,
+)
 from ..costmap.costmap_2d import Costmap2D
 from ..params.schema import ParamsModel
 from ..plugins import Plugin, register
 from .exceptions import InvalidPath
 
 _EPS_TRANS = 1e-4
-#: Segments of the first chunk `integrated_index` sums (then four times more each time).
-_CHUNK = 128
 
-
-def segment_lengths(poses: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Length of each segment poses[i] -> poses[i + 1] (what `integrated_index` sums)."""
-    d = poses[1:, :2] - poses[:-1, :2]  # np.diff, without its overhead
-    return fmath.hypot(d[:, 0], d[:, 1])
+__all__ = [
+    "FeasiblePathHandler",
+    "PathHandler",
+    "closest_index",
+    "closest_within",
+    "first_path_constraint",
+    "integrated_index",
+    "segment_lengths",
+    "window_end",
+]
 
 
 def integrated_index(
@@ -50,43 +60,15 @@ def integrated_index(
     seg: NDArray[np.float64] | None = None,
 ) -> int:
     """Index of the first pose after `start` whose path distance from `start` exceeds `distance`
-    (len(poses) when none does): the exclusive end of the window of that length.
+    (len(poses) when none): the exclusive end of the window of that length.
 
     `seg`, when given, is `segment_lengths(poses)` (worked out once for a plan that is
     pruned from the front cycle after cycle: the lengths do not change)."""
-    n = len(poses)
-    if start >= n:
-        return n
-    # The running length in growing chunks from `start` (a window is a short stretch of a
-    # long plan): the same sums, added in the same order, as one cumsum over the rest.
-    total = 0.0
-    i = start  # the chunk's first segment is poses[i] -> poses[i + 1]
-    size = _CHUNK
-    while i < n - 1:
-        j = min(i + size, n - 1)
-        if seg is None:
-            d = poses[i + 1 : j + 1, :2] - poses[i:j, :2]  # np.diff, without its overhead
-            lengths = fmath.hypot(d[:, 0], d[:, 1])
-        else:
-            lengths = seg[i:j]
-        if i != start:
-            # the chunk continues the running sum: total + s_i, then + s_i+1 ...
-            lengths = lengths.copy()
-            lengths[0] += total
-        along = np.cumsum(lengths)
-        # The sums never decrease (lengths are >= 0): the first one beyond `distance` is
-        # found by bisection; a NaN (sorted last) is checked the long way.
-        k = int(along.searchsorted(distance, side="right"))
-        if k < len(along):
-            if along[k] > distance:
-                return i + 1 + k
-            beyond = np.flatnonzero(along > distance)
-            if beyond.size:
-                return i + 1 + int(beyond[0])
-        total = float(along[-1])
-        i = j
-        size *= 4
-    return n
+    if start >= len(poses):
+        return len(poses)
+    return first_after_integrated_distance(
+        segment_lengths(poses) if seg is None else seg, start, distance
+    )
 
 
 def closest_index(
@@ -98,37 +80,9 @@ def closest_index(
 ) -> int:
     """The closest pose to (x, y) among the first `search_dist` metres of the path (`seg`:
     see `integrated_index`)."""
-    upper = (
-        integrated_index(poses, 0, search_dist, seg) if math.isfinite(search_dist) else len(poses)
-    )
-    upper = max(upper, 1)
-    d2 = (poses[:upper, 0] - x) ** 2 + (poses[:upper, 1] - y) ** 2
-    return int(d2.argmin())
-
-
-def first_beyond(along: NDArray[np.float64], distance: float) -> int:
-    """The first index of the running lengths `along` beyond `distance` (len(along) if none):
-    by bisection, as lengths are >= 0; a NaN (sorted last) is checked the long way."""
-    k = int(along.searchsorted(distance, side="right"))
-    if k < len(along) and not along[k] > distance:
-        beyond = np.flatnonzero(along > distance)
-        k = int(beyond[0]) if beyond.size else len(along)
-    return k
-
-
-def closest_within(
-    poses: NDArray[np.float64], along: NDArray[np.float64], x: float, y: float, search: float
-) -> int:
-    """`closest_index(poses, x, y, search)`, given `along = np.cumsum(segment_lengths(poses))`
-    (the same running sums `integrated_index` adds chunk by chunk)."""
-    n = len(poses)
-    upper = n
-    if math.isfinite(search):
-        k = first_beyond(along, search)
-        upper = k + 1 if k < len(along) else n
-    upper = max(upper, 1)
-    d2 = (poses[:upper, 0] - x) ** 2 + (poses[:upper, 1] - y) ** 2
-    return int(d2.argmin())
+    finite = math.isfinite(search_dist)
+    upper = integrated_index(poses, 0, search_dist, seg) if finite else len(poses)
+    return closest_pose(poses, x, y, 0, max(upper, 1))
 
 
 def window_end(n: int, start: int, along: NDArray[np.float64], distance: float) -> int:
@@ -140,6 +94,14 @@ def window_end(n: int, start: int, along: NDArray[np.float64], distance: float) 
     return start + 1 + k if k < len(along) else n
 
 
+def closest_within(
+    poses: NDArray[np.float64], along: NDArray[np.float64], x: float, y: float, search: float
+) -> int:
+    """`closest_index(poses, x, y, search)`, given `along = np.cumsum(segment_lengths(poses))`."""
+    upper = window_end(len(poses), 0, along, search) if math.isfinite(search) else len(poses)
+    return closest_pose(poses, x, y, 0, max(upper, 1))
+
+
 def first_path_constraint(
     poses: NDArray[np.float64], enforce_inversion: bool, rotation_threshold: float
 ) -> int:
@@ -148,7 +110,7 @@ def first_path_constraint(
     if n < 3:
         return n
     d = np.diff(poses[:, :2], axis=0)
-    trans = fmath.hypot(d[:, 0], d[:, 1])
+    trans = segment_lengths(poses)
     inversion = n
     if enforce_inversion:
         moving = np.flatnonzero(trans > _EPS_TRANS)
@@ -266,15 +228,10 @@ class FeasiblePathHandler(PathHandler):
         seg = self._seg
         if self._seg_of is not poses or seg is None:
             seg = segment_lengths(poses)
-        # closest_index and integrated_index on running sums of the cached lengths: one
-        # cumsum from the start (and one from the closest pose when that is not the first)
-        along = np.cumsum(seg)
-        closest = closest_within(poses, along, pose.x, pose.y, self._search_dist(costmap))
+        closest = closest_index(poses, pose.x, pose.y, self._search_dist(costmap), seg)
         if len(poses) > 1 and closest == len(poses) - 1:
-            closest -= 1
-        if closest:
-            along = np.cumsum(seg[closest:])
-        end = window_end(len(poses), closest, along, self.params.prune_distance)
+            closest -= 1  # (Nav2 keeps two poses: the end of the path has a direction)
+        end = integrated_index(poses, closest, self.params.prune_distance, seg)
         local = poses[closest:end]
         if plan_to_costmap is not None:
             local = compose_arrays(plan_to_costmap.as_array(), local)

@@ -29,7 +29,7 @@ from ..core.yaml_io import YamlMap, line_at
 from ..localization.amcl.odometry_match import odometry_note
 from ..maps.map_io import load_map
 from ..maps.occupancy_grid import OCCUPIED, OccupancyGrid
-from ..navigators.navigator import BasicNavigator
+from ..navigators.basic_navigator import BasicNavigator
 from ..params.loader import ROS_PARAMETERS
 from ..params.paramsfile import ParamsFile
 from ..params.updates import _override_target, apply_overrides

@@ -10,7 +10,7 @@ from collections.abc import Mapping
 from os import PathLike
 from typing import Any
 
-from ..navigators.navigator import BasicNavigator
+from ..navigators.basic_navigator import BasicNavigator
 from .mission import Mission
 
 

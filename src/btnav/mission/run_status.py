@@ -15,7 +15,7 @@ from typing import Any
 from py_trees.common import Status
 
 from ..bt.nav2_actions import BtActionNode
-from ..navigators.navigator import BasicNavigator
+from ..navigators.basic_navigator import BasicNavigator
 
 
 def format_status(

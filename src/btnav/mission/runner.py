@@ -24,7 +24,7 @@ from py_trees.common import Status
 from ..bt.nav2_actions import BtActionNode
 from ..core.error_codes import NavResult
 from ..core.geometry import Pose2D
-from ..navigators.navigator import BasicNavigator
+from ..navigators.basic_navigator import BasicNavigator
 from .bt_log import BtLog, depth_first
 from .counters import NavigationCounters
 from .mission import TASK_ACTION, Mission

@@ -1,10 +1,15 @@
 """Where the robot is against the path it follows: Nav2's controller-server tracking feedback.
 
 The robot is projected onto the path's segments within a window ahead of the last
-closest one (a path is followed forward; `search_dist` metres of it are searched);
-the nearest segment gives the signed cross-track error (positive left of the path),
-the heading error against that segment's direction, and the length still to go.
-Vectorised over the window's segments.
+closest one (a path is followed forward; `search_dist` metres of it are searched), as
+`nav2_util::distance_from_path` does; the nearest segment gives the signed cross-track
+error (positive left of the path), the heading error against that segment's direction,
+and the length still to go. Vectorised over the window's segments.
+
+The window ends where the path's running sums from its first pose pass `search_dist`
+beyond the closest one's (Nav2 sums from the closest pose on: the two differ by
+rounding only, at a tie; the tracking feedback, which IsWithinPathTrackingBounds reads,
+is pinned to this one).
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import numpy as np
 from ..core import fmath
 from ..core.geometry import Pose2D, normalize_angle
 from ..core.messages import Path
+from ..core.path_utils import first_beyond, segment_lengths
 
 
 class PathTracker:
@@ -29,9 +35,7 @@ class PathTracker:
             return
         self._path = path
         self._index = 0
-        xy = path.poses[:, :2]
-        d = xy[1:] - xy[:-1]
-        self._seg_len = fmath.hypot(d[:, 0], d[:, 1])
+        self._seg_len = segment_lengths(path.poses)
         self._along = np.concatenate([[0.0], np.cumsum(self._seg_len)])
 
     def track(self, pose: Pose2D) -> tuple[int, float, float, float]:
@@ -48,7 +52,7 @@ class PathTracker:
         start = min(self._index, len(path) - 2)
         # the segments starting within search_dist (along the path) of the last closest one
         along = self._along
-        reach = int(along.searchsorted(along[start] + self.search_dist, "right"))
+        reach = first_beyond(along, along[start] + self.search_dist)
         stop = min(max(start + 1, reach), len(path) - 1)
         a = poses[start:stop, :2]
         seg = poses[start + 1 : stop + 1, :2] - a

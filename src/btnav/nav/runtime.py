@@ -54,8 +54,8 @@ from ..sim.frames import add_robot_frames
 from ..sim.lidar import Lidar
 from ..sim.odometry import WheelOdometry, make_odometry
 from ..sim.sensor import Sensor
-from ..sim.sensors import make_sensors
 from ..sim.world import World
+from ..sim.world_sensors import make_sensors
 from .actions import ActionClient, ActionServer, ActionServers
 
 
@@ -109,6 +109,39 @@ class _Scheduled:
         missed = (now_ns - self.next_ns) // self.period_ns  # never burst to catch up
         self.next_ns += (missed + 1) * self.period_ns
         return True
+
+    def profiled_as(self) -> str:
+        if self.label is None:
+            self.label = profile_label(self.component)
+        return self.label
+
+
+def _run(part: Any, fn: Callable[[Any], Any], arg: Any) -> Any:
+    """One part of a step, `fn(arg)` (`part` names it for `_Profiler`)."""
+    return fn(arg)
+
+
+class _Profiler:
+    """`_run` adding each part's wall seconds to `spent` (the runtime's `profile`): a part
+    is a label, a scheduled slot, or a subscriber (under its owner's `profile_label`)."""
+
+    __slots__ = ("spent",)
+
+    def __init__(self, spent: dict[str, float]) -> None:
+        self.spent = spent
+
+    def __call__(self, part: Any, fn: Callable[[Any], Any], arg: Any) -> Any:
+        t0 = perf_counter()
+        out = fn(arg)
+        seconds = perf_counter() - t0
+        if isinstance(part, str):
+            label = part
+        elif isinstance(part, _Scheduled):
+            label = part.profiled_as()
+        else:
+            label = profile_label(part)
+        self.spent[label] = self.spent.get(label, 0.0) + seconds
+        return out
 
 
 def _period_ns(rate: float, what: str) -> int:
@@ -186,6 +219,8 @@ class Runtime:
             _Scheduled(s, -1, i, _period_ns(s.rate, f"sensor '{s.frame_id}'"), now_ns)
             for i, s in enumerate(self.sensors)
         ]
+        for slot in self._sensor_slots:
+            slot.label = f"{type(slot.component).__name__}/{slot.component.frame_id}"
         self._components: list[_Scheduled] = []
         self._added = 0
         # The first measurements, at the start time, so nothing starts with no data.
@@ -287,29 +322,14 @@ class Runtime:
         """Hand `msg` to the topic's subscribers now (and keep it in `latest`)."""
         self._publish(topic, msg)
 
-    def _publish(self, topic: str, msg: Any, spent: dict[str, float] | None = None) -> None:
+    def _publish(self, topic: str, msg: Any, run: Callable[..., Any] = _run) -> None:
         self.latest[topic] = msg
-        if spent is not None:
-            self._publish_profiled(topic, msg, spent)
-            return
         for cb in self._subscribers.get(topic, ()):
-            cb(msg)
+            run(cb, cb, msg)
         if isinstance(msg, LaserScan):
             self.latest_scan = msg
             for cb in self._subscribers.get("scan", ()):
-                cb(msg)
-
-    def _publish_profiled(self, topic: str, msg: Any, spent: dict[str, float]) -> None:
-        """`_publish`, each subscriber's time going to its owner (a costmap's scan intake)."""
-        callbacks = list(self._subscribers.get(topic, ()))
-        if isinstance(msg, LaserScan):
-            self.latest_scan = msg
-            callbacks += self._subscribers.get("scan", ())
-        for cb in callbacks:
-            t0 = perf_counter()
-            cb(msg)
-            label = profile_label(cb)
-            spent[label] = spent.get(label, 0.0) + (perf_counter() - t0)
+                run(cb, cb, msg)
 
     def set_cmd_vel(self, cmd: Twist) -> None:
         """A navigation server's velocity command (the controller's, a behaviour's): Nav2's
@@ -341,64 +361,33 @@ class Runtime:
 
     def step(self) -> float:
         """One physics step, then odometry, sensors and due components (see the module doc)."""
-        if self.profile is not None:
-            return self._step_profiled(self.profile)
-        self.world.step(self.physics_dt)
-        self.clock.advance(self.physics_dt)
-        self.step_count += 1
+        run = _run if self.profile is None else _Profiler(self.profile)
+        run("physics", self._advance, self.physics_dt)
         now_ns = self.clock.now_ns
         now = self.clock.now
-
         if self._odometry_slot is not None and self._odometry_slot.due(now_ns):
-            odom = self.odometry.update(now)
-            self.latest_odom = odom
-            self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=now)
-            self._publish("odom", odom)
+            self._publish("odom", run("odometry", self._odometry_update, now), run)
         for slot in self._sensor_slots:
             if slot.due(now_ns):
                 sensor = slot.component
-                self._publish(sensor.frame_id, sensor.measure(now))
+                self._publish(sensor.frame_id, run(slot, sensor.measure, now), run)
         for slot in list(self._components):
             if now_ns >= slot.next_ns and slot.due(now_ns):  # (most are not due: no call)
-                slot.component.update(now)
+                run(slot, slot.component.update, now)
         return now
 
-    def _step_profiled(self, spent: dict[str, float]) -> float:
-        """`step()` adding each part's wall seconds to `spent` (the same work, in the same
-        order; the clocks read between parts cost a little)."""
-        t0 = perf_counter()
-        self.world.step(self.physics_dt)
-        self.clock.advance(self.physics_dt)
+    def _advance(self, dt: float) -> None:
+        """Physics and the clock, one step on."""
+        self.world.step(dt)
+        self.clock.advance(dt)
         self.step_count += 1
-        now_ns = self.clock.now_ns
-        now = self.clock.now
-        t1 = perf_counter()
-        spent["physics"] = spent.get("physics", 0.0) + (t1 - t0)
 
-        if self._odometry_slot is not None and self._odometry_slot.due(now_ns):
-            t0 = perf_counter()
-            odom = self.odometry.update(now)
-            self.latest_odom = odom
-            self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=now)
-            spent["odometry"] = spent.get("odometry", 0.0) + (perf_counter() - t0)
-            self._publish("odom", odom, spent)
-        for slot in self._sensor_slots:
-            if slot.due(now_ns):
-                sensor = slot.component
-                if slot.label is None:
-                    slot.label = f"{type(sensor).__name__}/{sensor.frame_id}"
-                t0 = perf_counter()
-                msg = sensor.measure(now)
-                spent[slot.label] = spent.get(slot.label, 0.0) + (perf_counter() - t0)
-                self._publish(sensor.frame_id, msg, spent)
-        for slot in list(self._components):
-            if slot.due(now_ns):
-                if slot.label is None:
-                    slot.label = profile_label(slot.component)
-                t0 = perf_counter()
-                slot.component.update(now)
-                spent[slot.label] = spent.get(slot.label, 0.0) + (perf_counter() - t0)
-        return now
+    def _odometry_update(self, now: float) -> Odometry:
+        """The wheels' estimate: kept and set as odom -> base_footprint (then published)."""
+        odom = self.odometry.update(now)
+        self.latest_odom = odom
+        self.frames.set_transform(ODOM, BASE_FOOTPRINT, odom.pose, stamp=now)
+        return odom
 
     def spin_for(self, seconds: float) -> float:
         """Step for `seconds` of sim time (rounded to whole physics steps); returns the time."""

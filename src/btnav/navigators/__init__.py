@@ -3,8 +3,8 @@
 Their actions' goals, feedback and results are in `btnav.core.nav2_msgs`.
 """
 
+from .basic_navigator import BasicNavigator
 from .bt_navigator import BtNavigator
-from .navigator import BasicNavigator
 from .waypoint_follower import WaitAtWaypoint, WaypointFollower
 
 __all__ = ["BasicNavigator", "BtNavigator", "WaitAtWaypoint", "WaypointFollower"]

@@ -25,14 +25,14 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-import py_trees
+from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from pydantic import Field
 
-from ..bt import load_tree
+from ..bt import blackboard, load_tree
 from ..bt.base import R, S
 from ..bt.bundled import find_tree
-from ..bt.nav2_context import RECOVERIES_KEY
+from ..bt.nav2_context import RECOVERIES_KEY, recovery_count
 from ..core import fmath
 from ..core.error_codes import NavigateThroughPosesError, NavigateToPoseError, NavResult
 from ..core.errors import FrameError, PluginError
@@ -53,10 +53,6 @@ from ..params.schema import ParamsModel, Why, ignored
 from ..plugins import names, register
 from .path_progress import PathProgress
 
-Blackboard = py_trees.blackboard.Blackboard
-#: py_trees' blackboard storage (one dict for the process, cleared in place, never rebound).
-_STORAGE: dict[str, Any] = Blackboard.storage
-
 
 def _pose(value: Any) -> Any:
     return value if hasattr(value, "x") or hasattr(value, "pose") else Pose2D(*value)
@@ -64,8 +60,8 @@ def _pose(value: Any) -> Any:
 
 def blackboard_value(key: str, default: Any = None) -> Any:
     """The tree's blackboard entry `key` (py_trees' root namespace), or `default`."""
-    if "." not in key and "/" not in key:  # a plain key: the storage itself (fed each tick)
-        return _STORAGE.get("/" + key, default)
+    if "." not in key and "/" not in key:  # a plain key
+        return blackboard.read("/" + key, default)
     try:
         return Blackboard.get("/" + key)
     except KeyError:
@@ -73,7 +69,7 @@ def blackboard_value(key: str, default: Any = None) -> Any:
 
 
 def _blackboard_set(key: str, value: Any) -> None:
-    Blackboard.set("/" + key, value)
+    blackboard.write("/" + key, value)
 
 
 class NavigatorParams(ParamsModel):
@@ -103,10 +99,6 @@ class BehaviorTreeNavigator(ActionServer[Any]):
 
     def __init__(self, name: str, params: NavigatorParams | None = None) -> None:
         super().__init__(self.action_name, name)
-        #: Whether the class keeps this class's `_make_feedback` (then the tick builds the
-        #: message positionally: it runs 100 times a second). An instance attribute: a
-        #: class attribute's read is not specialised.
-        self._plain_feedback = type(self)._make_feedback is BehaviorTreeNavigator._make_feedback
         self.params = params if params is not None else self.Params()
         self.bt: Any = None
         self.default_tree = ""
@@ -232,21 +224,18 @@ class BehaviorTreeNavigator(ActionServer[Any]):
     def _feedback(self, now: float) -> Any:
         rt = self.bt.runtime
         global_frame, robot_base_frame = self._pose_frames
-        try:  # rt.robot_pose(global_frame, robot_base_frame), one call less
-            pose = rt.frames.lookup(global_frame, robot_base_frame)
+        try:
+            pose = rt.robot_pose(global_frame, robot_base_frame)
         except FrameError:  # (a transform not published yet: a zero pose)
             pose = Pose2D()
         remaining = self._distance_remaining(pose)
         twist = rt.latest_odom.twist
         speed = fmath.hypot(twist.linear_x, twist.linear_y)
         eta = remaining / speed if speed > 0.01 and math.isfinite(remaining) else 0.0
-        recoveries = int(_STORAGE.get(RECOVERIES_KEY) or 0)  # recovery_count()
-        time = now - self.start_time
-        if self._plain_feedback:  # _make_feedback as it is here, without its keywords
-            return NavigateToPoseFeedback(pose, time, eta, recoveries, remaining)
+        recoveries = recovery_count()
         return self._make_feedback(
             current_pose=pose,
-            navigation_time=time,
+            navigation_time=now - self.start_time,
             estimated_time_remaining=eta,
             number_of_recoveries=recoveries,
             distance_remaining=remaining,
@@ -257,17 +246,14 @@ class BehaviorTreeNavigator(ActionServer[Any]):
         return NavigateToPoseFeedback(**kw)
 
     def _distance_remaining(self, pose: Pose2D) -> float:
-        path = _STORAGE.get("/path")  # blackboard_value("path"), without building the key
-        progress = self.progress
-        if (path is None or path is not progress.path) and (
-            not isinstance(path, Path) or len(path) == 0
-        ):  # (the path of the latest search is a Path with poses)
-            goal = _STORAGE.get("/goal")
+        path = blackboard.read("/path")
+        if not isinstance(path, Path) or len(path) == 0:
+            goal = blackboard.read("/goal")
             goal = getattr(goal, "pose", goal)
             if goal is None or not hasattr(goal, "x"):
                 return 0.0
             return fmath.hypot(goal.x - pose.x, goal.y - pose.y)
-        return progress.remaining(path, pose.x, pose.y)
+        return self.progress.remaining(path, pose.x, pose.y)
 
     @property
     def search_window(self) -> float:

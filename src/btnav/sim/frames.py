@@ -9,8 +9,8 @@ from typing import Any
 
 from ..core.frames import BASE_FOOTPRINT, BASE_LINK, MAP, ODOM, FrameTree
 from ..core.geometry import Pose2D
-from .sensors import make_sensors
 from .world import World
+from .world_sensors import make_sensors
 
 
 def world_frame_tree(world: World | str | PathLike[str], seed: int = 0) -> FrameTree:

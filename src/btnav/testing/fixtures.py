@@ -52,10 +52,9 @@ def navigators() -> Iterator[Callable[..., Any]]:
 def trees() -> Iterator[Callable[..., Any]]:
     """`make(source, **options) -> TreeUnderTest`; at the end each tree's log is closed and
     py_trees' (process-wide) blackboard is put back as it was."""
-    import py_trees
+    from ..bt import blackboard
 
-    storage = py_trees.blackboard.Blackboard.storage
-    saved = dict(storage)
+    saved = blackboard.snapshot()
     made: list[Any] = []
 
     def make(source: str | PathLike[str], **options: Any) -> Any:
@@ -71,8 +70,7 @@ def trees() -> Iterator[Callable[..., Any]]:
     finally:
         for tree in made:
             tree.close()
-        storage.clear()
-        storage.update(saved)
+        blackboard.restore(saved)
 
 
 @pytest.fixture

@@ -27,6 +27,7 @@ import py_trees
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
+from ..bt import blackboard
 from ..bt.base import adopt
 from ..bt.bundled import find_tree
 from ..bt.loader import build_tree, load_document
@@ -93,10 +94,10 @@ class BlackboardView(MutableMapping[str, Any]):
             raise KeyError(key)
 
     def __iter__(self) -> Iterator[str]:
-        return (key.lstrip("/") for key in list(Blackboard.storage))
+        return (key.lstrip("/") for key in blackboard.stored_keys())
 
     def __len__(self) -> int:
-        return len(Blackboard.storage)
+        return len(blackboard.stored_keys())
 
 
 class _Tee(io.StringIO):

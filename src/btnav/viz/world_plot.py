@@ -223,8 +223,8 @@ def world_figure(world_path: str | PathLike[str]) -> Figure:
 
     from ..sim import lidar as _lidar  # noqa: F401  (registers the lidar plugin)
     from ..sim.sensor import Sensor
-    from ..sim.sensors import make_sensors
     from ..sim.world import World
+    from ..sim.world_sensors import make_sensors
 
     world = World.from_file(world_path, seed=0)
     scan = None
