@@ -4,11 +4,16 @@ Nav2's cost function, on the distance d (metres, between cell centres) to the
 nearest lethal cell: 254 at the obstacle, 253 while d <= the robot's inscribed
 radius, then `int(252 * exp(-cost_scaling_factor * (d - inscribed_radius)))`, and
 nothing beyond `inflation_radius` (rounded up to whole cells, as Nav2 does).
-Nav2 propagates a wavefront cell by cell; here scipy's exact Euclidean distance
-transform computes the same nearest distances over the window at once.
+Nav2 propagates a wavefront cell by cell; here the exact Euclidean distance to the
+nearest obstacle is found over the window at once: by scipy's distance transform on the
+numpy path, by a compiled pass bounded by the inflation radius otherwise
+(inflation_kernel; BTNAV_COSTMAP=numpy runs the numpy path, the same costs).
 """
 
 from __future__ import annotations
+
+import os
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,7 +30,12 @@ from .cost_values import (
     NO_INFORMATION,
 )
 from .costmap_2d import Costmap2D
+from .inflation_kernel import inflate_window
 from .layer import Bounds, Layer, Window
+
+Method = Literal["kernel", "numpy"]
+#: inflation_kernel's compiled pass, or scipy's transform (BTNAV_COSTMAP=numpy).
+DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_COSTMAP") == "numpy" else "kernel"
 
 
 def inflation_cost(
@@ -65,6 +75,8 @@ class InflationLayer(Layer):
         self._last_bounds = Bounds()
         self._table: NDArray[np.uint8] = np.zeros(1, np.uint8)
         self._table_key: tuple[int, float, float, float] | None = None
+        #: The compiled pass or scipy's transform (the same costs; BTNAV_COSTMAP=numpy).
+        self.method: Method = DEFAULT_METHOD
 
     @property
     def inscribed_radius(self) -> float:
@@ -121,6 +133,11 @@ class InflationLayer(Layer):
             return
         p = self.params
         r = self.cell_inflation_radius()
+        if self.method == "kernel":
+            table = self._cost_table(r, master.resolution)
+            inflate_window(master.costs, window.x0, window.y0, window.xn, window.yn, r, table,
+                           p.inflate_around_unknown, p.inflate_unknown)  # fmt: skip
+            return
         # Obstacles up to r cells outside the window still inflate into it.
         x0, y0 = max(window.x0 - r - 1, 0), max(window.y0 - r - 1, 0)
         xn, yn = min(window.xn + r + 1, master.size_x), min(window.yn + r + 1, master.size_y)

@@ -28,9 +28,10 @@ traced at once: one numpy array of cells for the whole scan.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -55,9 +56,15 @@ from .cost_values import FREE_SPACE, LETHAL_OBSTACLE
 from .costmap_2d import Costmap2D
 from .footprint import polygon_cells, transform_footprint
 from .layer import Bounds, CostmapLayer, Window, combination_method_field
+from .raytrace_kernel import clear_rays
 
 #: Nav2 stores +inf returns as range_max minus a tenth of a millimetre.
 INF_EPSILON = 1e-4
+
+Method = Literal["kernel", "numpy"]
+#: How the layer clears along its beams: raytrace_kernel's compiled loop, or trace_flat's
+#: arrays (BTNAV_COSTMAP=numpy in the environment); the same cells either way.
+DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_COSTMAP") == "numpy" else "kernel"
 
 
 class ObservationSource(ParamsModel):
@@ -274,8 +281,7 @@ def trace_flat(
         return np.zeros(0, np.intp)
     res = costmap.resolution
     ny, nx = costmap.costs.shape
-    lo = np.array([costmap.origin_x, costmap.origin_y])
-    hi = lo + np.array([nx * res, ny * res]) - 1e-6 * res
+    lo, hi = _trace_box(costmap)
     # x and y as separate columns throughout (no reductions along a short axis)
     (o_x, o_y), (lo_x, lo_y) = origin, lo
     (up_x, up_y), (down_x, down_y) = hi - origin, lo - origin
@@ -340,6 +346,42 @@ def trace_flat(
     return iy[inside]
 
 
+def _trace_box(costmap: Costmap2D) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The corners a ray is pulled back between: the map's, the far one a hair inside."""
+    res = costmap.resolution
+    ny, nx = costmap.costs.shape
+    lo = np.array([costmap.origin_x, costmap.origin_y])
+    return lo, lo + np.array([nx * res, ny * res]) - 1e-6 * res
+
+
+def free_along(
+    costmap: Costmap2D,
+    origin: NDArray[np.float64],
+    starts: NDArray[np.float64],
+    ends: NDArray[np.float64],
+    keep_lethal: bool = False,
+    method: Method = DEFAULT_METHOD,
+) -> bool:
+    """Free the cells `trace_flat` lists (but LETHAL ones with `keep_lethal`); whether it
+    listed any."""
+    costs = costmap.costs
+    if method == "kernel" and costs.flags.c_contiguous and len(ends):
+        lo, hi = _trace_box(costmap)
+        ny, nx = costs.shape
+        listed = clear_rays(
+            costs.reshape(-1), nx, ny, costmap.resolution, origin, lo, hi, starts, ends,
+            keep_lethal,
+        )  # fmt: skip
+        return bool(listed)
+    flat = trace_flat(costmap, origin, starts, ends)
+    if len(flat) == 0:
+        return False
+    if keep_lethal:
+        flat = flat[costs.reshape(-1)[flat] != LETHAL_OBSTACLE]
+    _set_flat(costs, flat, FREE_SPACE)
+    return True
+
+
 def _return_cells(
     grid: Costmap2D, returns: NDArray[np.float64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -370,6 +412,8 @@ class ObstacleLayer(CostmapLayer):
         self.buffers: dict[str, list[Observation]] = {n: [] for n in self.params.sources}
         self.last_reading: dict[str, float] = {}
         self._footprint_cells: tuple[NDArray[np.int64], NDArray[np.int64]] | None = None
+        #: The compiled raytrace or trace_flat's arrays (the same cells; BTNAV_COSTMAP=numpy).
+        self.method: Method = DEFAULT_METHOD
 
     def on_params_changed(self) -> None:
         self.buffers = {n: self.buffers.get(n, []) for n in self.params.sources}
@@ -445,15 +489,11 @@ class ObstacleLayer(CostmapLayer):
                 continue  # Nav2: a sensor origin off the map cannot raytrace
             held = _return_cells(grid, obs.returns)
             saved = grid.costs[held]  # what a scan sees is not free (see the module doc)
-            flat = trace_flat(grid, obs.origin, obs.ray_starts, obs.ray_ends)
-            _set_flat(grid.costs, flat, FREE_SPACE)
-            far = trace_flat(grid, obs.origin, obs.far_starts, obs.far_ends)
-            if len(far):
-                far = far[grid.costs.reshape(-1)[far] != LETHAL_OBSTACLE]
-                _set_flat(grid.costs, far, FREE_SPACE)
+            near = free_along(grid, obs.origin, obs.ray_starts, obs.ray_ends, False, self.method)
+            if free_along(grid, obs.origin, obs.far_starts, obs.far_ends, True, self.method):
                 bounds.touch_points(obs.far_ends)
             grid.costs[held] = saved
-            if len(flat):
+            if near:
                 bounds.touch_points(obs.ray_ends)
                 bounds.touch(float(obs.origin[0]), float(obs.origin[1]))
         if self.marks_allowed():

@@ -30,8 +30,10 @@ The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
 from __future__ import annotations
 
 import math
+import os
 from array import array
 from collections.abc import Callable
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,7 +42,13 @@ from scipy.sparse.csgraph import dijkstra
 
 from ..core import fmath
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from . import navfn_kernel
 from .exceptions import PlannerCancelled
+
+Method = Literal["kernel", "numpy"]
+#: The search and the descent compiled (navfn_kernel) or scipy's and Python's, the same
+#: bits either way; BTNAV_NAVFN=numpy in the environment runs the reference.
+DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_NAVFN") == "numpy" else "kernel"
 
 COST_NEUTRAL = 50
 COST_FACTOR = 0.8
@@ -62,15 +70,21 @@ _K = len(_OFFSETS)
 
 def navfn_costs(costs: NDArray[np.uint8], allow_unknown: bool) -> NDArray[np.uint8]:
     """NavFn's `costarr` from a costmap's Nav2 costs (setCostmap + the border of setupNavFn)."""
-    c = np.asarray(costs)
-    out = np.full(c.shape, COST_OBS, dtype=np.uint8)
+    out = _navfn_cost_table(allow_unknown)[np.asarray(costs, dtype=np.uint8)]
+    out[0, :] = out[-1, :] = COST_OBS
+    out[:, 0] = out[:, -1] = COST_OBS
+    return out
+
+
+def _navfn_cost_table(allow_unknown: bool) -> NDArray[np.uint8]:
+    """NavFn's mapped cost of each of the 256 costmap costs."""
+    c = np.arange(256)
+    out = np.full(256, COST_OBS, dtype=np.uint8)
     free = c < INSCRIBED_INFLATED_OBSTACLE
     mapped = COST_NEUTRAL + np.floor(COST_FACTOR * c[free].astype(np.float64))
     out[free] = np.minimum(mapped, COST_OBS - 1).astype(np.uint8)
     if allow_unknown:
-        out[c == NO_INFORMATION] = COST_OBS - 1
-    out[0, :] = out[-1, :] = COST_OBS
-    out[:, 0] = out[:, -1] = COST_OBS
+        out[NO_INFORMATION] = COST_OBS - 1
     return out
 
 
@@ -84,8 +98,9 @@ class GridGraph:
     def __init__(self, ny: int, nx: int) -> None:
         self.shape = (ny, nx)
         n = ny * nx
-        shifts = np.array([dy * nx + dx for dy, dx in _OFFSETS], dtype=np.int32)
-        cols = np.arange(n, dtype=np.int32)[:, None] + shifts
+        #: The flat index step to each neighbour, in the order of a row's weights.
+        self.shifts = np.array([dy * nx + dx for dy, dx in _OFFSETS], dtype=np.int64)
+        cols = np.arange(n, dtype=np.int32)[:, None] + self.shifts.astype(np.int32)
         np.clip(cols, 0, n - 1, out=cols)  # off-grid: any valid cell, the weight is inf
         self.indices = cols.reshape(-1)
         self.indptr = np.arange(0, _K * n + 1, _K, dtype=np.int32)
@@ -198,8 +213,21 @@ def _weight_block(
     return blk.transpose(1, 2, 0)
 
 
-def _search(graph: csr_matrix, source: int, limit: float = np.inf) -> NDArray[np.float64]:
-    """Shortest distances from `source`; inf beyond `limit`."""
+def _search(
+    graph: csr_matrix,
+    source: int,
+    limit: float = np.inf,
+    method: Method = DEFAULT_METHOD,
+    min_weight: float = 0.0,
+    shifts: NDArray[np.int64] | None = None,
+) -> NDArray[np.float64]:
+    """Shortest distances from `source` over a `GridGraph`'s graph; inf beyond `limit`.
+
+    The compiled search needs the grid's `shifts`, a finite limit and the least edge
+    weight (A*'s reduced weights can be 0: scipy's search then)."""
+    if method == "kernel" and shifts is not None and min_weight > 0 and math.isfinite(limit):
+        weights = graph.data.reshape(-1, shifts.size)
+        return navfn_kernel.dijkstra(weights, shifts, source, limit, min_weight)
     return dijkstra(graph, directed=True, indices=source, limit=limit)  # type: ignore[no-any-return]
 
 
@@ -214,8 +242,16 @@ class _BoundedSearch:
     only to a value <= limit, and a shorter search never changes the distances it
     keeps), so cutting a longer search at `limit` gives the very same array."""
 
-    def __init__(self, csr: csr_matrix, source: int) -> None:
-        self.csr, self.source = csr, source
+    def __init__(
+        self,
+        csr: csr_matrix,
+        source: int,
+        method: Method = DEFAULT_METHOD,
+        min_weight: float = 0.0,
+        shifts: NDArray[np.int64] | None = None,
+    ) -> None:
+        self.csr, self.source, self.method = csr, source, method
+        self.min_weight, self.shifts = min_weight, shifts
         self.searched = -math.inf
         self.dist: NDArray[np.float64] | None = None
 
@@ -223,7 +259,9 @@ class _BoundedSearch:
         """The distances up to `limit` (inf beyond); a new search goes on to `reach`."""
         if self.dist is None or limit > self.searched:
             self.searched = max(limit, reach)
-            self.dist = _search(self.csr, self.source, limit=self.searched)
+            self.dist = _search(
+                self.csr, self.source, self.searched, self.method, self.min_weight, self.shifts
+            )
         dist = self.dist
         if limit >= self.searched:
             return dist.copy()
@@ -244,6 +282,7 @@ def compute_potential(
     goal: tuple[int, int],
     use_astar: bool = False,
     cancel_checker: Callable[[], bool] | None = None,
+    method: Method = DEFAULT_METHOD,
 ) -> NDArray[np.float64]:
     """The (ny, nx) potential from the robot cell `start` (mx, my); POT_HIGH where unreached.
 
@@ -268,7 +307,9 @@ def compute_potential(
         csr = graph.cached_graph(costarr)
         base = straight
     slack = DETOUR * straight + GOAL_BAND
-    search = _BoundedSearch(csr, src)
+    # no step weighs less than one cell of the cheapest cost (A*'s reduced weights: 0)
+    min_weight = 0.0 if use_astar else float(costarr.min())
+    search = _BoundedSearch(csr, src, method, min_weight, graph.shifts)
     # The searches below are cut from one longer search where they can be: as far as the
     # bound the last plan needed (most replans need as many doublings as the one before).
     ahead = base + slack * 2.0**graph.doublings
@@ -309,6 +350,7 @@ def extract_path(
     to_cell: tuple[int, int],
     max_cycles: int,
     cancel_checker: Callable[[], bool] | None = None,
+    method: Method = DEFAULT_METHOD,
 ) -> NDArray[np.float64] | None:
     """NavFn's calcPath: (N, 2) map coordinates from `from_xy` down the potential to
     `to_cell` (the potential's zero), or None on failure.
@@ -326,6 +368,18 @@ def extract_path(
     fallback steps onto that very cell). So when calcPath fails, the path follows the
     grid all the way instead: a path calcPath finds is kept as it is.
     """
+    if method == "kernel":
+        flat = np.ascontiguousarray(potential, dtype=np.float64).reshape(-1)
+        for on_grid in (False, True):
+            path = _descend_compiled(
+                flat, potential.shape[1], from_xy, to_cell, max_cycles, on_grid, cancel_checker
+            )
+            if path is _OUT_OF_RANGE:
+                break  # the reference reads beyond the grid here: its answer is the one
+            if path is not None:
+                return path  # type: ignore[return-value]
+        else:
+            return None
     ny, nx = potential.shape
     pot = array("d")
     pot.frombytes(np.ascontiguousarray(potential, dtype=np.float64).tobytes())
@@ -337,6 +391,42 @@ def extract_path(
         if path is not None:
             return path
     return None
+
+
+#: `_descend_compiled`'s answer where the reference descent reads beyond the potential.
+_OUT_OF_RANGE = object()
+#: `_descend`'s steps between two polls of the cancel checker.
+_POLL_EVERY = 1000
+
+
+def _descend_compiled(
+    pot: NDArray[np.float64],
+    nx: int,
+    from_xy: tuple[float, float],
+    to_cell: tuple[int, int],
+    max_cycles: int,
+    on_grid: bool,
+    cancel_checker: Callable[[], bool] | None,
+) -> NDArray[np.float64] | object | None:
+    """`_descend` in navfn_kernel.descend, stretch by stretch between the polls of the
+    cancel checker `_descend` makes (before steps 999, 1999, ...)."""
+    fx, fy = math.floor(from_xy[0]), math.floor(from_xy[1])
+    state = np.array([0.0, fy * nx + fx, from_xy[0] - fx, from_xy[1] - fy, 0.0])
+    xs, ys = np.empty(max_cycles + 1), np.empty(max_cycles + 1)
+    stop = min(max_cycles, _POLL_EVERY - 1)
+    while True:
+        status = navfn_kernel.descend(pot, nx, pot.size, state, xs, ys, stop, on_grid,
+                                      COST_NEUTRAL, POT_HIGH, COST_OBS, PATH_STEP)  # fmt: skip
+        if status == navfn_kernel.REACHED:
+            n = int(state[4])
+            xs[n], ys[n] = to_cell
+            return np.column_stack([xs[: n + 1], ys[: n + 1]])
+        if status == navfn_kernel.OUT_OF_RANGE:
+            return _OUT_OF_RANGE
+        if status == navfn_kernel.FAILED or stop >= max_cycles:
+            return None
+        _check(cancel_checker)
+        stop = min(max_cycles, stop + _POLL_EVERY)
 
 
 def _gradients(

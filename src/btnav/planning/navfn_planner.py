@@ -22,7 +22,15 @@ from .exceptions import (
     StartOutsideMapBounds,
 )
 from .global_planner import GlobalPlanner
-from .navfn import POT_HIGH, GridGraph, compute_potential, extract_path, navfn_costs
+from .navfn import (
+    DEFAULT_METHOD,
+    POT_HIGH,
+    GridGraph,
+    Method,
+    compute_potential,
+    extract_path,
+    navfn_costs,
+)
 
 
 @register("planner", "nav2_navfn_planner::NavfnPlanner", aliases=("btnav/NavfnPlanner",))
@@ -62,6 +70,8 @@ class NavfnPlanner(GlobalPlanner):
         self._graph: GridGraph | None = None
         #: The potential of the last plan (ny, nx), for inspection and plots.
         self.potential: np.ndarray | None = None
+        #: The compiled search and descent or the reference (the same plans; BTNAV_NAVFN=numpy).
+        self.method: Method = DEFAULT_METHOD
 
     def _graph_for(self, shape: tuple[int, int]) -> GridGraph:
         if self._graph is None or self._graph.shape != shape:
@@ -105,7 +115,13 @@ class NavfnPlanner(GlobalPlanner):
         # enters its distances, so the cost array stays as it is (and cacheable).
         graph = self._graph_for(costs.shape)
         pot = compute_potential(
-            graph, costarr, (int(sx), int(sy)), (int(gx), int(gy)), p.use_astar, cancel_checker
+            graph,
+            costarr,
+            (int(sx), int(sy)),
+            (int(gx), int(gy)),
+            p.use_astar,
+            cancel_checker,
+            self.method,
         )
         self.potential = pot
 
@@ -117,7 +133,9 @@ class NavfnPlanner(GlobalPlanner):
         origin = np.array([costmap.origin_x, costmap.origin_y])
         bx, by = (best[:2] - origin) / costmap.resolution - 0.5  # cell centres at integers
         max_cycles = int(p.max_cycles_factor * max(costmap.size_x, costmap.size_y))
-        cells = extract_path(pot, (bx, by), (int(sx), int(sy)), max_cycles, cancel_checker)
+        cells = extract_path(
+            pot, (bx, by), (int(sx), int(sy)), max_cycles, cancel_checker, self.method
+        )
         if cells is None or len(cells) == 0:
             raise NoValidPathCouldBeFound(
                 f"Failed to create plan with tolerance of: {p.tolerance:.6f}"
