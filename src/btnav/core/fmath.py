@@ -1,63 +1,14 @@
 """Deterministic elementwise math: the same bits on every CPU.
 
-numpy picks its transcendental kernels at run time from the CPU's SIMD features
-(`np.sin`, `np.exp`, `np.tanh`, ... differ in the last bits between SSE, AVX2,
-AVX-512/SVML and NEON), and `@`, `np.dot`, `np.matmul`, `np.convolve` (BLAS) and
-`np.einsum` sum in a CPU-dependent order. A closed loop turns one ulp into a different
-trajectory, so the simulation/navigation path computes with this module instead.
-
-Only operations IEEE 754 rounds exactly are used: + - * /, comparisons, min/max,
-integer and bit operations on a float's bits, casts; no libm, no SIMD transcendental.
-Every function is a fixed sequence of correctly rounded steps, done as whole-array
-numpy passes over blocks of `_BLOCK` elements (cache-sized), so it gives the same bits
-on any x86-64 (any SIMD level) or arm64 build of numpy. Python floats and float64
-arrays of up to `_SMALL` elements take a pure-Python copy of the same steps (Python
-floats are IEEE doubles: the same bits, tests/core/test_fmath.py checks it), because 60
-numpy calls on a handful of numbers cost ~60 us.
-
-- `sin`, `cos`, `sincos`: k = round(x 2/pi) by the 1.5 * 2**52 trick, Cody-Waite
-  reduction with pi/2 in three parts (31 + 32 + 53 bits; the first two products exact
-  for |x| < 3e6) keeping the reduction's rounding error as a tail, the classic minimax
-  kernels on [-pi/4, pi/4] (fdlibm's coefficients), and the quadrant's swap and signs
-  applied to the bits. sin and cos come from one reduction.
-- `exp`: x = k ln2 + r (ln2 in two parts), exp(r) = 1 + 2r / (2 - c(r)) (the Remez
-  rational form, fdlibm's coefficients), times 2**k built from exponent bits (as two
-  factors when the result is subnormal or overflows).
-- `log`: x = 2**k (1 + f) from the bits with 1 + f in [sqrt(1/2), sqrt(2)), then
-  log(1 + f) = 2 atanh(f / (2 + f)) by its minimax series (fdlibm's coefficients).
-- `arctan2`: t = min(|x|, |y|) / max(|x|, |y|), above tan(pi/8) replaced by
-  (min - max) / (min + max) plus pi/4; atan(t) by fdlibm's odd minimax polynomial; then
-  the octant's m pi/4 (in two parts) plus or minus it. Zeros, infinities and NaN as C.
-- `hypot` is sqrt(x*x + y*y) (no rescaling: for |x|, |y| < 1e150, float32 < 1e18).
-- `dot_rows`, `matmul_k`, `weighted_sum`: `np.einsum`/`@` replacements as explicit
-  multiplies and adds in a fixed order, or numpy's pairwise `sum` (deterministic for a
-  given numpy version and array layout).
-
-float32 (and float16) inputs compute in float64 and are rounded once to their dtype at
-the end; float32 sin/cos skip the reduction tail and the last kernel term (their error
-before rounding is < 1e-11, far below a float32 ulp). Python floats give Python floats,
-numpy scalars numpy scalars, ints and bools float64.
-
-Accuracy in float64 ulps, against mpmath at 200 bits on 10**5 random points per range
-(the tests check looser bounds against Python's math): sin/cos <= 0.76 for |x| <= 1e6
-(0.50 next to multiples of pi/2); exp <= 0.86 on [-708, 709.78] (subnormal results
-within a subnormal ulp); log <= 0.80 over all positive doubles, subnormals included;
-arctan2 <= 1.5 over all quadrants and magnitudes. float32 sin/cos: correctly rounded
-for all but 1 of 224000 (angles in [-10, 10]; np.sin/np.cos float32: 14%/17% an ulp
-off). Beyond |x| ~ 3e6 sin/cos lose accuracy (still deterministic): keep angles wrapped.
-
-Python's own `math.sin`, `math.cos`, `math.atan2`, `math.exp`, `math.log` are libm:
-glibc picks an FMA or a non-FMA variant of each by CPU, and they differ in the last bit
-for ~0.06% of arguments; these functions take Python floats too (~1.5 us a call; sincos
-remembers the floats it has seen, 0.1 us again).
-
-Speed, a (2000, 56) float32 array (the MPPI batch), one core of an AMD EPYC (AVX2),
-best of 5 x 30 runs on a shared machine: np.sin 0.18 ms + np.cos 0.18 ms vs
-fmath.sincos 1.3 ms (both); np.exp 0.15 ms vs fmath.exp 1.1 ms; np.log 0.19 ms vs
-fmath.log 1.1 ms; np.arctan2 3.2 ms vs fmath.arctan2 2.3 ms. In float64: np.sin 2.1 ms
-(libm, element by element, on AVX2) vs fmath.sincos 3.1 ms; np.exp 0.57 ms vs
-fmath.exp 1.0 ms. A call on more than `_SMALL` elements costs at least ~60 us (some 60
-numpy calls); on a Python float ~1.5 us (math.sin: 0.1 us).
+numpy's transcendental kernels (`np.sin`, `np.exp`, ...) and its BLAS sums (`@`, `np.dot`,
+`np.einsum`) differ in the last bits between SIMD levels, and libm's `math.sin` between
+FMA and non-FMA builds; a closed loop turns one ulp into a different trajectory. So the
+simulation/navigation path computes with this module: sin, cos, sincos, exp, log, arctan2,
+hypot and fixed-order sums built only from operations IEEE 754 rounds exactly (+ - * /,
+comparisons, bit operations; fdlibm's coefficients), as numpy passes over blocks of
+`_BLOCK` elements, and in pure Python for Python floats and arrays up to `_SMALL` elements.
+float32 computes in float64 and rounds once. Algorithms, accuracy and speed:
+docs/decisions/0051-same-bits-on-every-cpu.md.
 """
 
 from __future__ import annotations

@@ -1,37 +1,12 @@
 """Laser odometry (rf2o_laser_odometry's role): odom -> base_footprint from scans alone.
 
-A robot without wheel encoders (or with bad ones) can still publish `odom` by matching
-each scan against a recent one. Matching consecutive scans drifts with every scan, so,
-as scan-to-map odometry does, each scan is matched against the last *keyframe* and a new
-keyframe starts only once the robot has moved `keyframe_distance` or turned
-`keyframe_angle` since it: while the robot crawls or stands still the pose does not
-random-walk, and driving past a keyframe adds one match's error, not one per scan.
-
-Each scan goes through:
-
-1. the constant-velocity prediction (the last scan-to-scan motion, scaled to this
-   scan's dt) as the search centre; the reference is the keyframe with the surfaces
-   between its neighbouring end points filled in (`_surfaces`: end points alone make
-   a corridor look the same from everywhere along it, see there);
-2. Karto's correlative matcher (`ScanMatcher`: coarse then fine search, its response
-   and covariance) over a small window, since the prediction is close;
-3. a Gauss-Newton point-to-line refinement (PL-ICP): every end point is paired with the
-   keyframe's beam it projects onto and the nearer of that beam's neighbours; residuals
-   are distances to the line through them, Cauchy-weighted; the 3x3 normal equations are
-   summed and solved explicitly, with the prediction as a weak prior (what a corridor's
-   walls leave open stays at constant velocity). It removes the correlative grid's
-   quantisation (2 cm, 0.2 degrees), which would otherwise add up keyframe after keyframe.
-
-A match whose response is below `minimum_response` (nothing to see, a blank scan) is not
-trusted: the prediction is kept and the scan becomes the keyframe, as rf2o coasts on its
-last velocity. Everything is fmath and explicit sums, no BLAS, so runs repeat bit for bit.
-
-Defaults: one estimate per scan (rf2o's `freq` is the scan rate); keyframes at
-slam_toolbox's `minimum_travel_distance` / `minimum_travel_heading` (0.5 m, 0.5 rad);
-slam_toolbox's sequential matcher narrowed, as the prediction is good: a 0.3 m search
-square (0.5) at 2 cm (1 cm; the refinement does the rest) with 0.04 m smear (0.1),
-+-10 degrees (+-20) at its 2 degree coarse and 0.2 degree fine steps. Over the
-corridor_loop lap (86 m) these drift 1.5 to 4 cm, at 7 to 10 ms a scan (360 beams).
+A robot without good wheel encoders can still publish `odom` by matching scans. Each scan
+is matched against the last *keyframe*, not the previous scan, and a new keyframe starts
+only after `keyframe_distance` or `keyframe_angle`, so a crawling or standing robot does not
+random-walk. A match is the constant-velocity prediction, Karto's correlative matcher over
+a small window, then a point-to-line (PL-ICP) refinement that removes the grid's
+quantisation; a weak match keeps the prediction, as rf2o coasts. fmath and explicit sums
+only, so runs repeat bit for bit. Steps, defaults and drift: docs/decisions/0099.
 """
 
 from __future__ import annotations

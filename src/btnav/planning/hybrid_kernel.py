@@ -1,31 +1,12 @@
 """Hybrid-A*'s expansion loop in a numba kernel, with SmacSearch.run's plans bit for bit.
 
-SmacSearch.run and SmacPlannerHybrid's `expand` cost ~10-20 us of interpreter an
-expansion; the racecar's two-doorway request expands 25 000 nodes. Here the loop runs
-compiled over arrays, and returns to Python only for what is rare or not hot: an
-analytic expansion (AnalyticExpansion.from_node: a Reeds-Shepp or Dubins curve, its
-samples, their collision and cost checks), the curve length to the goal of a node
-within `tolerance` of it, a poll of the cancel checker, and more room for nodes.
-
-What makes it the same search (tests/planning/test_hybrid_kernel.py compares the plans):
-
-- a node is SmacSearch's (x, y, bin, g, parent, primitive's turn, key), in two arrays;
-- the queue is a binary heap ordered as Python orders (f, h, index) tuples, and since
-  every node's index is distinct, any correct heap pops the same sequence as heapq;
-- a child's step cost is `length * per_cell[cell] * turn * reverse` in that order, its
-  heuristic max(obstacle heuristic, the straight line to the goal as sqrt(dx^2 + dy^2),
-  one correctly rounded IEEE step in both paths), its admission `g < best_g` per (cell, bin) key;
-- closed keys, best_g and the footprint's memo live per (cell, heading bin) in blocks of
-  `bins` allocated for the cells the search touches (a map-sized table of every key
-  would be 24 MB of best_g for the office, 92 MB for a 400 x 400 map);
-- the footprint check is GridCollisionChecker.footprint_hit's (the bin's outline as cell
-  offsets around the cell, off the map collides), decided once per (cell, bin);
-- the loop's order of tests (closed, goal, tolerance, approach count, max_iterations,
-  the analytic countdown) and its counters are SmacSearch.run's, kept across returns
-  to Python in `SearchState.counters` with the phase to resume at.
-
-Compiled once per install and cached (`cache=True`); no fastmath, no parallel,
-`error_model="numpy"`: plain IEEE + - * / and floor, the same bits as CPython's floats.
+The Python search costs interpreter time per expansion; here the loop runs compiled over
+arrays and returns to Python only for what is rare (an analytic expansion, a node within
+`tolerance` of the goal, a cancel poll, more room for nodes). It is the same search: the
+same node fields, a heap ordered as heapq orders (f, h, index), the same step costs and
+heuristic in the same IEEE steps, and SmacSearch.run's order of tests and counters
+(tests/planning/test_hybrid_kernel.py compares the plans). `cache=True`, no fastmath, no
+parallel. Details: docs/decisions/0005.
 """
 
 from __future__ import annotations

@@ -1,40 +1,15 @@
 """State lattice control sets for SmacPlannerLattice, as Nav2's lattice primitive generator
 (nav2_smac_planner/lattice_primitives) makes them, in Nav2's JSON format.
 
-The set is near-minimal in the sense of Pivtoraiko & Kelly (2005): from each start heading
-a primitive goes to a lattice point (a multiple of `grid_resolution`) at a lattice heading,
-and a primitive is kept only if no shorter one already kept could be chained into it. The
-steps, as Nav2's generator takes them:
-
-- Headings are not uniform: they point at the integer points on the border of a square of
-  half-side `num_of_headings / 8`, so a straight primitive along any heading ends on a
-  lattice point (16 headings: 0, atan(1/2), pi/4, atan(2), pi/2, ...).
-- A primitive is one arc of radius at least `turning_radius` between a start and an end
-  straight, either possibly empty: the start line and the end line meet at a corner, and
-  the arc is tangent to both at equal distances from it (the shorter leg's length).
-- For a start heading in the first quadrant, wavefronts (the lattice points at Chebyshev
-  distance p, from the shortest turn's length outwards) are searched for primitives to
-  every heading within 90 degrees. A candidate is dropped when it passes within half a
-  cell of a kept primitive's end pose heading within half a bin of it (it could be
-  composed from that one), or when it ends nearer to a kept end with its heading than
-  `trajectory_distinctness_ratio` times its length. The search ends after
-  `stopping_threshold` wavefronts in a row add nothing.
-- The other quadrants are the first one mirrored in x, in y and in both.
-- `diff` adds a rotation in place to each neighbouring heading, `omni` those and a slide
-  sideways (the straight primitive of the heading 90 degrees to the left or right, driven
-  with the start heading kept).
-
-Where btnav differs, and why: the line geometry is done in integers (lattice points and
-heading directions are integer vectors), so parallel lines, points on a line and right
-angles are exact instead of being compared after rounding to 5 decimals; a sideways slide
-to the right has its true length (Nav2's file gives it three times the length, by taking
-the left slide's arc points); trigonometry goes through core.fmath, so a generated file
-is the same bits on every CPU. `date_generated` is the only field that changes between
-runs.
+A near-minimal set (Pivtoraiko & Kelly 2005), built in Nav2's steps: headings that point
+at lattice points, one arc of at least `turning_radius` between two straights, wavefront
+search with Nav2's pruning, the other quadrants mirrored. btnav does the line geometry in
+integers (exact instead of rounded to 5 decimals), gives a rightward slide its true length,
+and uses core.fmath, so a generated file is the same bits on every CPU. The steps in full:
+docs/decisions/0073.
 
 `python -m btnav.planning.lattice_generator --config CONFIG.json --output OUT.json` reads
-Nav2's generator config (`config.json`: motion_model, turning_radius, grid_resolution,
-stopping_threshold, num_of_headings, trajectory_distinctness_ratio).
+Nav2's generator config (`config.json`).
 """
 
 from __future__ import annotations

@@ -6,32 +6,7 @@ Nav2 builds both planners on one templated A* (a_star.hpp, analytic_expansion.hp
 collision_checker.hpp, obstacle_heuristic.hpp); only the node type differs, which here is
 the `expand` function a planner hands to `SmacSearch.run`: given a node, the children it
 reaches, each with its step cost. Everything is in costmap cells (continuous x, y; a
-heading bin), as in Nav2.
-
-- `SmacSearch` is Nav2's AStarAlgorithm::createPath: pop the cheapest node, stop on the
-  goal's cell and bin; every few expansions (more often as the goal nears,
-  `analytic_expansion_ratio`) try a curve to the goal (`AnalyticExpansion`); a node within
-  `tolerance` of the goal (measured along the curve, not the straight line) is kept, and
-  `max_on_approach_iterations` later the best such node ends the search. Ties on f go to
-  the node nearer the goal, then to the first queued. `max_iterations` ends it with
-  Nav2's PlannerTimedOut; `cancel_checker` is polled every `terminal_checking_interval`
-  expansions.
-- `AnalyticExpansion` is Nav2's: the Dubins, Reeds-Shepp or (omni) straight SE2 curve from
-  a node to the goal, sampled every sqrt(2) cells, kept when collision-free, no longer
-  than `analytic_expansion_max_length` and not entering cells above
-  `analytic_expansion_max_cost` except on the final approach; refined back along the
-  node's ancestors as refineAnalyticPath does (every fifth, eight times at most). The
-  curves are solved and sampled compiled (reeds_shepp_kernel, dubins_kernel, the same
-  bits as reeds_shepp.py and dubins.py, which BTNAV_SMAC=python uses).
-- `GridCollisionChecker` decides per cell once per plan what Nav2's checker decides per
-  pose: a radius footprint collides on inscribed and lethal cells; a polygon on lethal
-  cells, and from the circumscribed cost up its oriented outline is laid on the grid:
-  for Hybrid-A*, as Nav2, at the cell's centre turned to the heading's bin, remembered
-  per (cell, bin); for the lattice at the exact pose.
-- `obstacle_heuristic` is Nav2's cost-aware 8-connected Dijkstra from the goal on the
-  costmap halved by `downsample_obstacle_heuristic`; it is computed whole, once a plan,
-  and reused while the costmap and goal cell are unchanged (with
-  `cache_obstacle_heuristic`, as Nav2, while the goal cell is unchanged).
+heading bin), as in Nav2. Each piece restated: docs/decisions/0073.
 """
 
 from __future__ import annotations

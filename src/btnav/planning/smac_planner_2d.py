@@ -1,36 +1,13 @@
 """nav2_smac_planner::SmacPlanner2D: cost-aware 8-connected A* on the costmap, then smoothed.
 
-The search is Nav2's AStarAlgorithm with Node2D (a_star_impl.hpp, node_2d.cpp):
-
-- A node is a cell. A neighbour is valid (the circular robot's collision check) when its
-  cost is below INSCRIBED_INFLATED_OBSTACLE, or unknown with `allow_unknown`. The start
-  cell is expanded whatever its cost (Nav2 never checks it).
-- A step to one of the 8 neighbours (MOORE, no corner-cutting check) costs its length
-  (1 or sqrt 2) times `1 + cost_travel_multiplier * cost / 252`, `cost` being the
-  entered cell's (255 for unknown). The heuristic is the Euclidean distance to the goal
-  point, in cells: consistent, so the path to the goal cell is the cheapest there is.
-- The goal must be valid or have a valid cell within `tolerance`, else GoalOccupied.
-  The search stops when it expands the goal cell; or `max_on_approach_iterations`
-  expansions after it first queued a cell closer to the goal than `tolerance`,
-  returning the path to the queued cell closest to the goal; or after `max_iterations`
-  expansions or with nothing left to expand, returning that closest cell's path if it
-  lies within `tolerance`, else failing: StartOccupied when only the start was
-  expanded, PlannerTimedOut at `max_iterations`, NoValidPathCouldBeFound otherwise.
-  `max_iterations` or `max_on_approach_iterations` <= 0 means no limit, as in Nav2.
-
-Where btnav differs, and why:
-
-- Path points are at cell centres (Nav2's getWorldCoords puts them on the cell's lower
-  corner, half a cell off); the heuristic and the tolerance are measured from centres.
-- Equal f goes to the cell queued first (Nav2's std::priority_queue leaves ties to
-  the heap), so which of several equally cheap paths is returned can differ.
-- `max_planning_time` is not enforced: a wall-clock deadline would make a plan depend
-  on the machine's speed. Planning is bounded by `max_iterations` and smoothing by the
-  smoother's `max_iterations`, both deterministic.
-- The smoother is btnav's SimpleSmoother with Smac's settings (one holonomic segment,
-  run only when the path spans more than 10 steps, skipped at `max_iterations: 0`). It
-  checks the cell under each point; Nav2 checks the footprint when the costmap has a
-  polygon one.
+The search is Nav2's AStarAlgorithm with Node2D: a step to one of the 8 neighbours costs
+its length times `1 + cost_travel_multiplier * cost / 252`, the heuristic is the Euclidean
+distance (so the path is the cheapest there is), and the goal `tolerance`,
+`max_on_approach_iterations` and `max_iterations` end it with Nav2's error codes. btnav
+puts path points at cell centres (Nav2's are half a cell off), breaks equal f by queue
+order, and never enforces the wall-clock `max_planning_time`, so a plan does not depend on
+the machine. The smoother is SimpleSmoother with Smac's settings. The full restatement:
+docs/decisions/0074.
 """
 
 from __future__ import annotations

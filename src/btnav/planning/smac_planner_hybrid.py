@@ -1,37 +1,13 @@
 """nav2_smac_planner::SmacPlannerHybrid: Hybrid-A* for car-like and differential bases.
 
-The search runs as Nav2's does, in cells: a node is a continuous (x, y) with its
-heading on one of `angle_quantization_bins`, keyed by its cell and bin. Its children
-are Nav2's motion primitives: a straight step and the tightest left and right arcs of
-`minimum_turning_radius` whose chord leaves the cell (one heading bin's worth or more),
-plus the gentler arcs between when `allow_primitive_interpolation`; `REEDS_SHEPP` adds
-the same in reverse. A step costs its arc length times
-`(1 - retrospective_penalty) + cost_penalty * cost / 252`, times `non_straight_penalty`
-on a turn (plus `change_penalty` when the turn changes side) and `reverse_penalty`
-backwards, as NodeHybrid::getTraversalCost. The heuristic, the analytic expansion
-(Dubins or Reeds-Shepp), the goal approach and the collision checks are Nav2's and are
-shared with SmacPlannerLattice (`smac_common`).
-
-Where btnav differs, and why: the distance heuristic is the straight line, not Nav2's
-precomputed Dubins/Reeds-Shepp table (`lookup_table_size` is read, not used: the
-table would cost more to build in Python than the searches it speeds); an analytic
-expansion is not re-tried with wider turning radii (Nav2's scoring of up to 4x the
-minimum); the search stops after `max_iterations` expansions, never after a wall-clock
-`max_planning_time`, so a plan does not depend on the machine's speed.
-
-Speed: the search runs compiled (hybrid_kernel: the loop and the expansion; Reeds-Shepp
-and Dubins solved and sampled in reeds_shepp_kernel and dubins_kernel), returning to
-Python only for an analytic expansion's checks, a node near the goal and a cancel poll,
-with the Python search's plans bit for bit (`BTNAV_SMAC=python` runs that reference).
-A step's cost factor per cell and the turn penalties per (parent turn, primitive) are
-tables made once a plan; a polygon footprint is checked once per (cell, heading bin), at
-the cell's centre as Nav2's GridCollisionChecker does, and remembered; an analytic
-expansion is not computed when the straight line to the goal is already longer than
-`analytic_expansion_max_length` (no curve is shorter). bench/planner.py, part 2: Nav2's
-defaults on the small office plan in 13-32 ms (1 900-18 000 expansions), the racecar's
-requests in 11-46 ms, its two-doorway request (25 000 expansions) in 46 ms where the
-Python search takes ~420 ms; the first plan in a new install compiles for ~4 s, then
-loads from numba's cache in ~0.2 s (docs/decisions/0005).
+The search is Nav2's, in cells: a node is a continuous (x, y) with a heading bin, its
+children Nav2's motion primitives (straight, tightest arcs, interpolated arcs, reversed for
+`REEDS_SHEPP`), step costs as NodeHybrid::getTraversalCost; the heuristic, analytic
+expansion, goal approach and collision checks are shared with the lattice (`smac_common`).
+btnav's heuristic is the straight line, not Nav2's precomputed table, and the search stops
+after `max_iterations`, never on wall-clock time, so a plan does not depend on the
+machine. It runs compiled (hybrid_kernel) with the Python search's plans bit for bit
+(`BTNAV_SMAC=python`). Details and timings: docs/decisions/0073 and 0005.
 """
 
 from __future__ import annotations

@@ -1,37 +1,14 @@
 """nav2_smac_planner::SmacPlannerLattice: A* over a state lattice read from a lattice file.
 
-The lattice file is Nav2's JSON (its generator's output, `lattice_generator` writes the
-same): `lattice_metadata` (turning_radius, grid_resolution, num_of_headings,
-heading_angles, number_of_trajectories, motion_model) and `primitives`, each with its
-start and end heading index, `left_turn`, `trajectory_radius`, `trajectory_length`,
-`arc_length`, `straight_length` and `poses` (x, y, yaw from the start, the start left
-out). As NodeLattice does:
-
-- A node is a continuous (x, y) in cells and a heading index; its children are the
-  primitives that start at its heading, and with `allow_reverse_expansion` those of the
-  opposite heading driven backwards (the base facing the other way, its end heading
-  flipped back). A primitive collides if its end pose or any of its poses more than a
-  cell's diagonal from the last checked one does (the footprint oriented as the pose).
-- A step costs its length in cells times `(1 - retrospective_penalty) + cost_penalty *
-  cost / 252` with the highest cost met along it; times `non_straight_penalty` on an arc
-  (plus `change_penalty` when it turns the other way than the step before) and
-  `reverse_penalty` backwards; a rotation in place costs `rotation_penalty * (1 +
-  cost_penalty * cost / 252)`; the first step from the start costs its length alone.
-- The heuristic, the goal approach and the analytic expansion are Hybrid-A*'s
-  (`smac_common`): Reeds-Shepp with `allow_reverse_expansion`, Dubins without, a
-  straight SE2 line for an `omni` lattice (which never reverses: Nav2 turns the option
-  off for it), all at the lattice's turning radius.
-
-Where btnav differs, and why: the analytic expansion ends on the goal's own heading (Nav2
-rounds the curve's headings to the lattice's, so its last pose may face up to half a bin
-off); a lattice made for another resolution is laid on the costmap in metres (Nav2 scales
-it by the costmap's cells, so its primitives would shrink or grow); the search stops
-after `max_iterations`, never after the wall-clock `max_planning_time`.
-
-`lattice_filepath` is Nav2's path to the file; a relative path is looked up beside the
-params file, then in btnav's bundled `params/` folder (`lattice/...` names the files
-btnav ships, see params/lattice/NOTICE.md). The default is btnav's generation of Nav2's
-default set (Ackermann, 0.5 m turning radius, 5 cm, 16 headings).
+The lattice file is Nav2's JSON (`lattice_generator` writes the same). A node is a
+continuous (x, y) in cells and a heading index, its children the primitives that start at
+that heading (reversed too with `allow_reverse_expansion`), step costs as Nav2's
+NodeLattice; the heuristic, goal approach and analytic expansion are Hybrid-A*'s
+(`smac_common`). btnav differs only to stay exact and machine-independent: the expansion
+ends on the goal's own heading, a lattice for another resolution is laid on the costmap in
+metres, and the search stops after `max_iterations`, never on wall-clock time. The full
+restatement: docs/decisions/0073. `lattice_filepath` is looked up beside the params file,
+then in btnav's bundled `params/` (see params/lattice/NOTICE.md).
 """
 
 from __future__ import annotations

@@ -1,46 +1,12 @@
 """nav2_theta_star_planner::ThetaStarPlanner: any-angle A* with line-of-sight shortcuts.
 
-Nav2's Theta* (theta_star.cpp, theta_star_planner.cpp), restated:
-
-- A cell is safe to enter when its cost is at most MAX_NON_OBSTACLE (252), or unknown
-  with `allow_unknown`; inscribed and lethal cells are never entered. Nodes are
-  expanded by lowest f = g + h, h being min(w_euc_cost, 1) times the Euclidean
-  distance to the goal cell (in cells).
-- Expanding a node first tries its grandparent: if the Bresenham line between them
-  crosses only cells whose scaled cost `26 + 0.9 * cost` is at most 252 (unknown, when
-  allowed, counts as 253) and cuts no corner of an unsafe cell on a diagonal step, the
-  node hangs from the grandparent with g = g(grandparent) + w_euc_cost * distance + the
-  line's traversal cost. Then its neighbours (`how_many_corners`: 4 or 8) are offered
-  g = g(node) + w_euc_cost * step + the neighbour's traversal cost. A cell's traversal
-  cost is `w_traversal_cost * (26 + 0.9 * cost)**2 / 252**2` (unknown: cost 255); a
-  line's is the sum over the cells it leaves (its first cell included, its last not).
-  A node whose f drops after it was expanded is expanded again (there is no closed set).
-- The start cell is cleared (treated as free) for the plan. A lethal goal cell is
-  GoalOccupied; any other unsafe goal cell Nav2's plain PlannerException ("Either of the
-  start or goal pose are an obstacle!", code UNKNOWN); no path NoValidPathCouldBeFound.
-- The path runs through the tree's cells (their centres) from the start cell to the
-  goal cell, each segment walked in steps of one resolution from its first point.
-  Poses have yaw 0 but the last, which has the goal's yaw, or with
-  `use_final_approach_orientation` the direction of the last segment.
-
-Where btnav differs, and why:
-
-- The path ends on the goal cell's centre, straight from the last vertex. Nav2 reads
-  the path when it takes the goal cell from the queue, before trying the goal's own
-  line of sight, and its linearInterpolation then leaves the goal cell out: its paths
-  end on the neighbour the goal cell was reached from. btnav tries that line of sight
-  too and keeps the goal cell, so the last segment (and with
-  `use_final_approach_orientation` the final yaw) is the real approach to the goal.
-- A node whose f drops while queued is queued again and the old entry skipped (Nav2
-  lowers f in place inside std::priority_queue, which leaves its heap out of order),
-  and equal f goes to the entry queued first: paths can differ where Nav2's heap
-  misorders or breaks ties otherwise.
-- Nav2 means to clear the start cell (`clearStart`) but writes FREE_SPACE into the
-  shared costmap at the *previous* plan's start. btnav treats this plan's start cell as
-  free, for this plan only, and never writes into the costmap.
-- The search is a heapq loop walking each line of sight cell by cell in Python (Theta*
-  is sequential: every expansion's line depends on the tree so far), so it is the
-  slowest of btnav's grid planners; bench/planner.py prints by how much.
+Nav2's Theta* (theta_star.cpp): A* over cells at most MAX_NON_OBSTACLE (252), where an
+expanded node first tries to hang from its grandparent along a Bresenham line of sight;
+costs, errors and the path's poses follow Nav2. btnav differs where Nav2 misbehaves: the
+path ends on the goal cell (Nav2's stops one short), a node whose f drops is queued again
+(Nav2 lowers it in place and breaks its heap), and the start cell is free for this plan
+only (Nav2 writes into the shared costmap). It is a plain heapq loop, so the slowest grid
+planner. The full restatement: docs/decisions/0074.
 """
 
 from __future__ import annotations

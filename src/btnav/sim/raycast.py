@@ -1,39 +1,12 @@
 """Vectorised ray casting: many rays from one origin against every segment and circle at once.
 
-This is the lidar's inner loop, so it is written for numpy, not for readability of
-one ray: rays x segments are evaluated as whole arrays (chunked over rays to bound
-memory), never with a Python loop over rays or segments. At a few dozen segments the
-cost is the number of numpy calls more than the arithmetic, so the formulas are
-arranged to need few of them.
-
-Segments: origin o, unit direction d, segment p + u e, a = p - o. The textbook
-t = (a x e) / (d x e), u = (a x d) / (d x e) is rewritten in inverse range: divided
-by a x e, each segment gives three rows whose dot products with d are K = 1/t,
-W = u/t and V = (1 - u)/t, so one product (3S, 2) @ (2, B) evaluates every pair
-(`fmath.matmul_k`: two broadcast multiplies and an add, the same bits on every CPU).
-The ray crosses the segment in front of the origin exactly when W >= 0 and V >= 0;
-with W and V scaled by 2^40, min(K, min(W, V)) is K for a hit and <= 0 for a miss,
-and the nearest hit is the largest K: two minimums and a max over the block, no
-division, no boolean masks. Segments are lengthened by a relative 1e-9 at both ends
-so that a ray through a vertex shared by two edges cannot slip between them.
-
-Circles use the same inverse form: with m = centre - o, c = |m|^2 - r^2 and
-b' = d . m / sqrt(c), 1/t = (b' + sqrt(b'^2 - 1)) / sqrt(c); a ray whose line misses
-gives NaN, which `fmax` ignores, and a circle behind gives 1/t < 0.
-
-The S x B temporaries live in a scratch buffer a `RayCaster` keeps between calls
-(fresh large arrays cost page faults on every scan), so a sensor owns one caster.
-
-Rare cases take a small exact side path: segments whose line passes through the
-origin (a x e = 0: the origin on a segment, or a ray running along one) and circles
-containing the origin (the ray meets the boundary on its way out). A zero-length
-segment is a point, not an edge: it is never hit.
-
-Two ways to do this work give the same bits (tests/sim/test_raycast_kernel.py): the
-numpy path here (`method="numpy"`), where a scan costs in proportion to the segments in
-range, and by default `raycast_kernel` (`method="kernel"`), compiled with numba, where
-each beam walks a grid of the static geometry and stops at its first hit, so a scan
-costs in proportion to what the beams reach (docs/decisions/0004-numba-lidar-kernel.md).
+The lidar's inner loop, written for numpy rather than for reading one ray: rays x segments
+as whole arrays, the hit test rewritten in inverse range (1/t) so that one `fmath.matmul_k`
+product and two minimums and a max decide every pair, with no division and no masks. Rare
+cases (an origin on a segment's line, inside a circle) take a small exact side path.
+A `RayCaster` keeps its scratch buffers, so a sensor owns one. By default the compiled
+`raycast_kernel` does the same work with the same bits (`method="kernel"`; see
+docs/decisions/0004-numba-lidar-kernel.md); the formulas: docs/decisions/0023.
 """
 
 from __future__ import annotations

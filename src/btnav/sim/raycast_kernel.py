@@ -1,38 +1,11 @@
 """The lidar's compiled ray caster: each beam walks a uniform grid of the static geometry.
 
-raycast.py's numpy path evaluates every ray against every segment in range, so a scan
-costs in proportion to the world: a map-image world has thousands of segments, most of
-them behind the first wall a beam meets. Here the static segments and circles are
-binned once into a uniform grid (`GridIndex`), and each beam walks the cells along its
-ray (Amanatides & Woo's DDA), testing what is registered there, until the nearest hit
-found lies within the cells walked or the walk passes `max_range`. Moving obstacles are
-few: they are tested against every beam, as a small extra list.
-
-Same bits as the numpy path: every number that decides a range is computed by the same
-IEEE operations in the same order as raycast.py computes it (`matmul_k` is a product,
-a product and a sum; `dot_rows` and `hypot` likewise):
-
-- per item and scan, once, when a beam first meets it: the coordinates relative to the
-  origin, the range-pruning test (when the numpy path would prune), p x q and the
-  one-sided and on-line tests, and the K, W, V rows (`rel @ _ROWS / (p x q)`), or a
-  circle's |m|^2 - r^2, its pruning test and m / sqrt(c), 1 / sqrt(c);
-- per beam and item: each row's two products and sum, min(K, min(W, V)); a circle's
-  (b + sqrt(b b - 1)) / sqrt(c); the side paths (a segment whose line passes the
-  origin, a circle around it) as `_on_line_hits` and `_circle_rows` do them;
-- per beam: the largest 1/t (a max is exact, so the order items are met in does not
-  matter), read as 1/best when best >= 1/cap, else inf.
-
-What the grid decides is only which items a beam is tested against; it is conservative
-(items are registered in every cell within `MARGIN` of them, and a beam stops only when
-the nearest hit is `STOP_SLACK` inside the cells walked), so no item that could give
-the nearest hit is skipped. An origin on a segment (every beam reads 0) and an origin
-inside a circle are found among the items of the origin's cell.
-
-Determinism (issue 37): no libm call (sqrt is IEEE's correctly rounded square root,
-floor is exact), no fastmath (LLVM then never contracts a*b + c into an FMA; a test
-reads the assembly), no parallel loop, `error_model="numpy"` (a division by zero is
-inf, as in numpy). `NUMBA_CPU_NAME=generic` gives the same bits as the host's build.
-Compiled once per install and cached (`cache=True`).
+raycast.py's numpy path costs in proportion to the world's segments; here the static
+segments and circles are binned once into a `GridIndex` and each beam walks its cells
+(Amanatides & Woo's DDA) until the nearest hit lies within the cells walked. Every number
+that decides a range is computed by the same IEEE operations in the same order as
+raycast.py, and the grid is conservative, so both paths give the same bits; no libm, no
+fastmath, no parallel loop, `cache=True`. Details: docs/decisions/0004.
 """
 
 from __future__ import annotations

@@ -1,34 +1,12 @@
 """A Gazebo world (classic `.world`, gz-sim `.sdf`) as a btnav world: what a 2D lidar sees.
 
-`btnav.description.sdf_world` reads the world (includes, nested models, poses) and cuts
-each collision by the robot's sensing height band; here the sections become the world's
-obstacles (boxes, circles, polygons), each keeping the line it was written at (of the
-collision in the world file, else of the top-level model or include that brought it),
-so a contact names it. The band is [0.05, lidar height + 0.1] m: the robot's first
-lidar from its description (`LidarDescription.z`), else `DEFAULT_LIDAR_HEIGHT`; a
-table top above it is no obstacle, the legs that cross it are.
-
-A scripted `<actor>` becomes a moving circle (`ACTOR_RADIUS`) going through its
-trajectory's waypoints at the trajectory's mean speed, back and forth when the script
-loops (Gazebo restarts a loop from its first waypoint; a closed trajectory looks the
-same); its delays and per-leg speeds are not kept.
-
-The robot is the caller's block (a mission's `robot:`), else the `robot:` of a world
-YAML that names the Gazebo world (`sdf:`), else btnav's default robot, with one warning.
-Its start: the block's `pose`; else the world's spawn, the top-level model or include
-named as the robot's description (its name, or its file's or model folder's name);
-else the free place nearest the world's origin. A mission's `initial_pose` replaces any
-of these, as for every world. The bounds are the geometry's extent plus `BOUNDS_MARGIN`.
-
-A world YAML may name a Gazebo world and say what the file cannot:
-
-```yaml
-world: cafe
-sdf: sdf/cafe.world          # relative to this file
-model_paths: [sdf/models]    # searched before GZ_SIM_RESOURCE_PATH, GAZEBO_MODEL_PATH
-height_band: [0.05, 0.40]    # metres above the world's z = 0
-robot: {description: ../robots/turtlebot3_burger.urdf.xacro}
-```
+`btnav.description.sdf_world` cuts each collision by the robot's sensing height band
+([0.05, lidar height + 0.1] m); here the sections become obstacles that keep the line they
+were written at, so a contact names it. A scripted `<actor>` becomes a moving circle at its
+trajectory's mean speed. The robot is the mission's, else the world YAML's, else btnav's
+default; it starts at its `pose`, the world's spawn, or the free place nearest the origin.
+A world YAML names the Gazebo world with `sdf:` and adds `model_paths`, `height_band` and
+`robot`. Details and an example: docs/decisions/0085.
 """
 
 from __future__ import annotations

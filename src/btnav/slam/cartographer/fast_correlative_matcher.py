@@ -1,53 +1,12 @@
 """Cartographer's FastCorrelativeScanMatcher2D: the loop-closure search over a wide window.
 
-Exact, by branch and bound on a stack of max-pooled grids (level d holds, at each cell,
-the maximum over the 2^d x 2^d block of cells from it: an upper bound of every
-candidate the block covers), built once when the submap finishes and kept, as
-Cartographer's PrecomputationGridStack2D. Headings are not branched; translations are,
-from a lattice 2^(depth - 1) cells apart down to single cells. Values are quantised to
-0..255 over [0.1, 0.9], as Cartographer's precomputation grids, so a candidate's score
-is an integer sum and every search order finds the same best candidate: the one with
-the highest score, the first in the tree's order (heading, then the top level's lattice,
-then each level's four sub-blocks in Cartographer's order) among equals.
-
-How it is computed (the result is Cartographer's; the order of the work is numpy's):
-
-- `match_batch` runs many searches at once (those of a newly finished submap against
-  every older node near it, or of a new node against every finished submap near it:
-  their initial poses are fixed until the next optimisation, so none waits on another's
-  result), each level's candidates of every search in one array; `match` is one search.
-- A candidate is (heading, column step, row step) on its level's lattice: offset
-  `step * 2^d - n` cells, n the window's half width in cells. Its children are the
-  four sub-blocks at the next level whose offsets stay inside the window. A search's
-  headings are columns of the batch's heading table, in the search's order.
-- The bound a candidate must reach starts at the best single-cell candidate around the
-  initial pose (`_Batch.near`: a found match is most often within a few cells and
-  headings of it), and `min_score`: a candidate below it cannot win, nor can one that
-  only ties it (equal scores: the first in the tree's order, which survives too, wins).
-- The top levels are searched by heading group only (`_Batch.group_descent`): 8
-  neighbouring headings of a search at a time, a point's cells over them fit in a box
-  8 cells wide, and an extra grid per level holds the level's maximum over such boxes,
-  so one read a point bounds the group (`_Batch.groups`). A group's candidate (group,
-  block) whose bound reaches the search's is split into its four sub-blocks, down to
-  the fourth level from the top; there each is split into its headings, scored one by
-  one from then on. Scoring headings one by one at the top levels dropped few (9% at
-  the top, 25% at the next on Intel's searches) for 8 times the reads. Nothing dropped
-  could have won, and the winner is picked in the tree's order (`_Batch.tree_order`),
-  so the order of the work does not change it.
-- A child is scored a part of the points at a time: its sum over the parts done plus
-  its parent's over the parts to come bounds it (a point's cell at the parent's level
-  holds the maximum over the child's block; a heading's parent is its group's
-  candidate; a group's children are bounded by their parent the same way), so most children that cannot reach the
-  bound are dropped after a third of their lookups.
-- Scoring: the levels are kept inside a margin of 2 n + 1 cells copied from their
-  edges (what a clipped lookup reads), so a point's flat index at step 0, clipped once
-  per search, plus one offset per candidate is every lookup: no table, no clipping per
-  candidate. Candidates come sorted by heading, so the indices are the points' column
-  of each heading repeated over its run (points x candidates: the sum runs down
-  columns); a search with fewer points than the batch's most reads a cell that is 0 at
-  every offset for the rest. Lookups go in batches that stay in cache. The margins and
-  group grids cost memory: ~17 MB a finished submap of Intel's (650 x 690 cells)
-  instead of ~3.
+Exact, by branch and bound on a stack of max-pooled grids built once when a submap
+finishes (Cartographer's PrecomputationGridStack2D); translations are branched, headings
+are not. Values are quantised to 0..255 as Cartographer's, so a score is an integer sum and
+every search order finds the same best candidate (the first in the tree's order among
+equals). The result is Cartographer's; the order of the work is numpy's: `match_batch`
+runs many searches at once, bounds headings 8 at a time and scores children a part of the
+points at a time. Details and measurements: docs/decisions/0070.
 """
 
 from __future__ import annotations

@@ -1,31 +1,13 @@
 """`cartographer`: Cartographer's 2D SLAM (local SLAM on submaps, global SLAM on a pose graph),
 driven by the user's Cartographer `.lua`.
 
-Local SLAM (`LocalTrajectoryBuilder`): every scan becomes range data in the tracking
-frame (`RangeData.from_scan`), voxel filtered. Its pose is predicted (odometry since
-the last scan; without `use_odometry`, constant velocity, as Cartographer's pose
-extrapolator), searched by the real-time correlative matcher, refined by the Ceres
-cost against the older active submap. Scans the motion filter does not call similar
-are inserted into the active submaps and become nodes. One departure: a real-time match
-that scores poorly is searched again wider (`RESCUE_BELOW_SCORE`), for odometry that
-is wrong by more than the real-time window (FR079's, which counts reversing as forward).
-
-Global SLAM (`CartographerMapper`, Cartographer's PoseGraph2D): nodes are linked to the
-previous node (local SLAM's relative pose, and odometry's), to the submaps they were
-inserted into (intra-submap constraints) and, by the fast correlative matcher, to
-finished submaps within `max_constraint_distance` (sampled at `sampling_ratio`; every
-older node is tried against a submap when it finishes). Constraints scoring above
-`min_score` are loop closures. Every `optimize_every_n_nodes` nodes the graph is
-optimised (`optimize_huber`: Levenberg-Marquardt on btnav's `PoseGraph` with Huber's
-loss on the loop closures, applied at every iteration of one solve as Ceres does), and
-local SLAM's frame is re-placed in the map by its newest submap.
-
-btnav's graph holds nodes only: a submap's frame is the pose of the node that started
-it, so it moves with that node, where Cartographer optimises a submap as a pose of its
-own held by its intra-submap constraints; those, and loop closures, are edges from that
-node here. The map is every submap at its pose (`submaps.assemble_map`). Odometry is
-read from the frame tree (btnav's wheel odometry, odom -> tracking frame) when a scan is
-processed, and `map -> odom` published so that map -> tracking frame is the estimate.
+Local SLAM is Cartographer's LocalTrajectoryBuilder (predict, real-time correlative match,
+Ceres refinement, motion filter, insert into submaps), with one departure: a poor
+real-time match is searched again wider (`RESCUE_BELOW_SCORE`). Global SLAM is PoseGraph2D
+(intra-submap constraints, fast correlative loop closures, Huber-weighted
+Levenberg-Marquardt every `optimize_every_n_nodes`). btnav's graph holds nodes only: a
+submap's frame is the pose of the node that started it. Odometry is read from the frame
+tree and `map -> odom` published. In full: docs/decisions/0070.
 """
 
 from __future__ import annotations

@@ -1,33 +1,12 @@
 """The sparse linear solve of each SPA step: H dx = -g over 3x3 pose blocks.
 
 SPA (Karto's optimiser) solves its normal equations with a sparse Cholesky; scipy has
-none (scikit-sparse's CHOLMOD would be a new dependency), and scipy's SuperLU is not
-reproducible across CPUs: scipy builds it against the vendor BLAS (its supernode
-updates call dtrsv/dgemv, its solves dtrsm/dgemm) and OpenBLAS picks those kernels by
-CPU at run time, so the same system solved under OPENBLAS_CORETYPE=Haswell and
-=Sandybridge gives different last bits. Preconditioned conjugate gradients (block
-Jacobi, or the odometry chain) need hundreds of iterations on a Manhattan graph.
-
-So `BlockCholesky` is a sparse Cholesky of its own, on 3x3 blocks (one per pose):
-
-- symbolic, once per graph: a fill-reducing order (nodes of degree <= 2 peeled in
-  rounds of independent sets, as cyclic reduction does, so a chain of m poses gives an
-  elimination tree ~log m high rather than m / 2; then SuperLU's minimum degree on what
-  is left), the factor's block pattern (SuperLU's L of a near-Laplacian M-matrix with
-  H's pattern: no cancellation, so its non-zeros are exactly the structural ones; only
-  integers reach the result, and the pattern is checked closed under fill), the
-  elimination tree and each column's height in it. Columns of one height do not
-  depend on each other, so the numeric work is planned level by level as flat index
-  arrays: which products L[i,j] L[k,j]^T update which block, in a fixed order.
-- numeric, every step: per level, all its updates as elementwise 3x3 products summed by
-  `np.add.reduceat`, then each column's 3x3 Cholesky and its off-diagonal blocks; the
-  solves the same way up and down the levels.
-
-Every float operation is a correctly rounded +, -, *, / or sqrt in a fixed order: the
-same bits on every CPU. On a 3500-pose Manhattan graph (bench/pose_graph_solver.py) a
-step costs about 1.3 times SuperLU's (factor 26 ms + solve 15 ms against 33 ms, one
-core), plus 50 ms of symbolic work per `optimize`. `solve_superlu` stays for comparison
-and offline use.
+none, and scipy's SuperLU calls the vendor BLAS, whose kernels OpenBLAS picks by CPU, so
+its last bits differ between machines. `BlockCholesky` is btnav's own, on 3x3 blocks:
+a symbolic step once per graph (a fill-reducing order, the factor's pattern, the
+elimination tree planned level by level as flat index arrays), then per step only
+correctly rounded +, -, *, / and sqrt in a fixed order: the same bits on every CPU.
+`solve_superlu` stays for comparison. Design and timings: docs/decisions/0056.
 """
 
 from __future__ import annotations

@@ -1,30 +1,13 @@
 """Karto's Mapper as slam_toolbox runs it: match, link, close loops, optimise.
 
-Each processed scan becomes a node of the pose graph. Its pose is first predicted
-from the last node's correction and the odometry, then corrected by the sequential
-matcher against the running buffer (the last `scan_buffer_size` scans within
-`scan_buffer_maximum_scan_distance`); a match with little support is searched again
-by the loop matcher, within twice the odometry's travel, and replaced by an unambiguous
-better match (btnav's, for odometry wrong by more than the sequential window:
-`RESCUE_BELOW_RESPONSE`); one not replaced is fused with the odometry's prediction,
-whose noise the mapper learns from the well-supported matches (btnav's:
-`FUSE_BELOW_RESPONSE`); a well-supported match takes the odometry's position along the
-one direction the scan leaves open, a corridor's length, where the odometry is clearly
-surer (btnav's: `OPEN_DIRECTION_GATE`). It is linked to the previous node, to the
-closest scan of the running buffer and to every near chain of older scans that it
-matches well (`link_match_minimum_response_fine`); its pose becomes the
-covariance-weighted mean of those matches. Then loop closure: chains of at least
-`loop_match_minimum_chain_size` scans within `loop_search_maximum_distance` that are
-not reachable through the graph by a path of near scans are matched coarsely (the
-loop matcher, `loop_search_space_*`) and finely (the sequential matcher); a match
-above `loop_match_minimum_response_fine` adds an edge and the graph is optimised. That
-match moves the node only if it fits the chain clearly better than the node's graph pose
-does (btnav's, `LOOP_CLOSURE_GRAPH_WINDOW`); an optimised graph whose error grows too much
-takes the closure back (btnav's, `LOOP_CLOSURE_MAX_ERROR_INCREASE`).
-
-Distances between scans are measured between barycenters of their points
-(`use_scan_barycenter`), as Karto's reference poses. A Python loop here runs over
-graph nodes near the robot or over chains, never over points or cells.
+Each processed scan becomes a node of the pose graph: predicted from the odometry,
+corrected by the sequential matcher against the running buffer, linked to the previous
+node, the buffer and near chains, then loop closure against far chains and optimisation,
+as Karto's. btnav departs only for bad odometry and ambiguous matches, each a named
+constant measured in docs/decisions/0058: `RESCUE_BELOW_RESPONSE`, `FUSE_BELOW_RESPONSE`,
+`OPEN_DIRECTION_GATE`, `LOOP_CLOSURE_GRAPH_WINDOW`, `LOOP_CLOSURE_MAX_ERROR_INCREASE`. A
+Python loop here runs over graph nodes or chains, never over points or cells. The steps in
+full: docs/decisions/0055.
 """
 
 from __future__ import annotations

@@ -1,33 +1,12 @@
 """Karto's occupancy grid: hit and pass counts of every scan, traced at its (optimised) pose.
 
-slam_toolbox does not keep a probabilistic map: it publishes open_karto's
-`OccupancyGrid::CreateFromScans`, which traces every processed scan from the sensor at
-the scan's current graph pose and counts, per cell, the beams that passed through it
-and the beams that ended in it. After a loop closure moves the poses, the grid is
-simply rebuilt from the counts of all scans at their new poses.
-
-The rules are Karto's (`AddScan`, `RayTrace`, `UpdateCell`):
-
-- a reading that is NaN, infinite or not positive is no reading: nothing is traced;
-- a reading at or beyond `max_laser_range` (Karto's range threshold) is traced as a free
-  ray of `max_laser_range` and marks no hit;
-- any other reading traces a Bresenham line from the sensor's cell to its end cell, both
-  included (passes), and counts the end cell once more as a pass and a hit, so a cell
-  that every beam ends in has a hit ratio of 1/2;
-- a cell is known when it was passed through more than `min_pass_through` times, then
-  occupied when hits / passes exceeds `occupancy_threshold`, free otherwise; unknown
-  when not passed through often enough (strict comparisons, as Karto's).
-
-The cell lattice is anchored at the first scan's pose (cell borders lie a whole number
-of cells from it), so a rebuild with the same poses gives the same array whatever the
-order of growth. All beams of a scan, or of many scans in a rebuild, are traced in one
-vectorised pass: per ray the Bresenham cells are `start + k * major + round(k * slope)
-* minor` for k = 0..n (flat indices; a Bresenham line visits each cell once, so nothing
-needs de-duplicating), every cell of a block of rays in one array, counted with
-`np.add.at` (its fast path: int32 counts, intp indices). Blocks of ~256k cells keep the
-temporaries in cache, which alone makes a rebuild ~3x faster than 2M-cell blocks. Cells
-are integers after one floor per ray end; sin/cos come from `core.fmath`: the same counts
-on every CPU.
+slam_toolbox publishes open_karto's `OccupancyGrid::CreateFromScans`, not a probabilistic
+map: per cell, the beams that passed through it and the beams that ended in it, and after
+a loop closure the grid is rebuilt from every scan at its new pose. The rules (`AddScan`,
+`RayTrace`, `UpdateCell`) are Karto's; the lattice is anchored at the first scan's pose so
+a rebuild gives the same array whatever the order, and all beams of a block of scans are
+traced in one vectorised Bresenham pass counted with `np.add.at`. Rules and block sizes:
+docs/decisions/0055.
 """
 
 from __future__ import annotations

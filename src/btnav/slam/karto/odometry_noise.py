@@ -1,32 +1,12 @@
 """The odometry's noise, learnt from the log itself.
 
-Odometry differs by an order of magnitude between robots (heading error per metre
-travelled over the relations: the Freiburg hospital 0.8 degrees, MIT CSAIL 1.05, ACES
-3.2, Intel 7.0, Freiburg 079 10.6), so no fixed model weighs it right against a scan
-match (a fixed 0.05 rad/m helped the hospital; 0.1 rad/m broke Freiburg 079). This one
-compares the odometry's increment between processed scans with the well-supported
-sequential matches (the match's pose in the frame of the pose the odometry predicted)
-and fits, by weighted least squares over every such pair so far, the variances
-
-    heading:          var = A t^2 + B r^2
-    position (each):  var = C t^2 + D r^2
-
-for t metres travelled and r radians turned since the previous scan (standard
-deviations proportional to travel and turn, as Karto's and AMCL's odometry models).
-Each pair's squared discrepancy is one observation, weighted by the inverse square of
-its predicted variance (a chi-square's variance is twice its mean squared) and capped
-at `CLIP` times it (a well-supported match can still be wrong), with a prior of
-`PRIOR_WEIGHT` observations at the conservative `PRIOR_*` model. Running sums, no
-history: deterministic, scale-free, one 2 x 2 solve per observation.
-
-The match's own error stays in the model (a conservative bias): Karto's covariances are
-no measure of it. On ACES the good matches' positional standard deviation (Karto's, median)
-is 7.5 cm, their discrepancy from the odometry 2.5 cm RMS; with the match's variance
-subtracted every log's position model fell to the floor and ACES went from 5.44 to
-10.82 cm. Learnt so (heading per metre, per radian; position per metre, per radian):
-the hospital 0.29 deg, 0.06; 0.04 m, 0.11 m. ACES 1.2 deg, 0.13; 0.05, 0.05. MIT CSAIL
-4.7 deg, 0.23; 0.06, 0.04. Intel 4.1 deg, 0.05; 0.05, 0.04. Freiburg 079 1.4 deg, 0.31;
-0.05, 0.07.
+Odometry differs by an order of magnitude between robots, so no fixed model weighs it
+right against a scan match. This one fits, by weighted least squares over the
+well-supported sequential matches so far, heading and position variances proportional to
+the squares of travel and turn since the previous scan (as Karto's and AMCL's odometry
+models), with capped weights and a conservative prior. Running sums, no history:
+deterministic, one 2 x 2 solve per observation. The model, and what it learns on each
+benchmark log: docs/decisions/0058.
 """
 
 from __future__ import annotations

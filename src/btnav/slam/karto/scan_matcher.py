@@ -1,30 +1,12 @@
 """open_karto's correlative ScanMatcher, vectorised: the heart of slam_toolbox's Mapper.
 
-slam_toolbox matches every new scan twice over: the sequential matcher
-(`correlation_search_space_*`) against the recent running scans, and the loop matcher
-(`loop_search_space_*`) against a chain of old scans when the robot comes back. Both
-are this class with different `MatcherParams`. `match` follows Karto's MatchScan:
-
-1. a grid centred on the search centre (`CorrelationGrid`), holding the reference
-   points that face the new scan, smeared;
-2. a coarse search: every translation of a lattice at twice the grid resolution over
-   the whole search square, times every heading within `coarse_search_angle_offset`
-   at `coarse_angle_resolution` (the scan rotated about the robot's position);
-   a response is the mean grid value under the scan's points / 100, times a distance
-   and an angle penalty (gain 0.2, floored) when penalising;
-3. if the best coarse response is 0 and `use_response_expansion`, the coarse search
-   again with the angle window widened by 20 degrees, up to three times;
-4. the best pose is the mean of all poses whose response ties the best; the positional
-   covariance comes from the translations whose best response is within 0.1 of it;
-5. if refining, a fine search of +-1 cell at the grid resolution and +-half a coarse
-   angle step at `fine_search_angle_offset` steps (Karto's naming: that parameter is
-   the fine angular resolution) around the coarse best, penalised relative to it, and
-   the angular covariance from the unpenalised responses over those headings.
-
-Everything is integer lookups (points' cell offsets per angle, translations as whole
-cells) summed exactly; trigonometry is `fmath`; no BLAS. Karto searches around the
-sensor pose; here points come in the robot frame, so the search centre and the
-rotation centre are the robot's position (the caller applied the sensor mount).
+slam_toolbox's sequential matcher and loop matcher are both this class with different
+`MatcherParams`. `match` follows Karto's MatchScan: a smeared correlation grid of the
+reference, a coarse search over translations and headings, response expansion, the mean
+of tied poses with its covariance, then a fine search. Everything is integer lookups
+summed exactly, trigonometry is `fmath`, no BLAS. Points come in the robot frame, so the
+search and rotation centre is the robot's position (Karto's is the sensor's). The steps in
+full: docs/decisions/0055.
 """
 
 from __future__ import annotations

@@ -1,41 +1,13 @@
 """CARMEN logs (.clf, .log): the text format of the classic 2D SLAM data sets
 (Intel Research Lab, FR079, FR101, CSAIL, ACES, MIT Killian Court).
 
-One message a line, the message name first; `#` starts a comment line. Read here:
-
-- `FLASER n r1..rn x y theta odom_x odom_y odom_theta ipc_timestamp host logger_timestamp`:
-  the front laser; its field of view is 180 degrees from -90 degrees, unless PARAM
-  lines `laser_front_laser_fov` / `laser_front_laser_resolution` (degrees) say
-  otherwise. Without a resolution, 180 beams are 1 degree apart (-90 to +89, CARMEN's
-  default resolution; the ROS bags of these logs declare pi/179, which bends the
-  Intel log's corridors: the heading error grows by 0.56% of every turn with it,
-  -0.08% with 1 degree), and a beam count that is no such resolution spans the field.
-  `x y theta` is the laser's pose as the logging robot believed it (in some logs
-  already corrected by a localiser), `odom_x odom_y odom_theta` the raw odometry.
-- `ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range
-  accuracy remission_mode n r1..rn m rem1..remm laser_x laser_y laser_theta robot_x
-  robot_y robot_theta tv rv forward_safety_dist side_safety_dist turn_axis timestamp
-  host logger_timestamp`: a laser with its own geometry; the laser's offset on the
-  robot is `robot_pose⁻¹ ⊕ laser_pose` (the median over the log).
-- `ODOM x y theta tv rv accel timestamp host logger_timestamp`: odometry.
-- `PARAM name value`: `robot_front_laser_max` (the FLASER maximum range, 80 m when
-  absent), the FLASER geometry above, and `robot_frontlaser_offset`,
-  `robot_frontlaser_side_offset`, `robot_frontlaser_angular_offset` (its mount).
-
-Other messages (RAWLASER, RLASER, SYNC, TRUEPOS, NMEA...) are skipped. A log with
-both ROBOTLASER1 and FLASER lines (FR079 has both for the same laser) is read from
-ROBOTLASER1. Host and logger_timestamp may be missing; the timestamp is the IPC one.
-Errors count a line's fields from 1 at the message name, as awk does. A pose, angle
-or timestamp field that is not finite, or beyond any real log's (`recorded_log.LIMITS`),
-is an error at its line; a range reading may be inf or NaN (an invalid reading).
-
-Odometry comes from the ODOM lines when there are any, interpolated at each scan's
-time; otherwise from the odometry pose of each laser line. For `intel.clf` the two
-agree: its header says the FLASER pose fields are the ODOM poses interpolated at the
-scan's time, so the ODOM lines are the source and authoritative.
-
-Speed: the lines are grouped by message name and each group's numbers are parsed in
-one `np.loadtxt` call; intel.clf (15 MB, 13,631 scans) reads in about a second.
+One message a line, its name first; FLASER and ROBOTLASER1 (lasers), ODOM and PARAM
+(range limit, FLASER geometry and mount) are read, every other message is skipped. An
+FLASER scan without a resolution PARAM is read at CARMEN's 1 degree default, not the
+pi/179 the ROS bags of these logs declare (it bends Intel's corridors). Odometry is the
+ODOM lines interpolated at each scan when there are any. Errors name the line and count
+fields from 1 at the message name, as awk does. The fields in full, and why:
+docs/decisions/0057.
 """
 
 from __future__ import annotations
