@@ -1,29 +1,13 @@
 """A Gazebo world (classic `.world`, gz-sim `.sdf`): its collision shapes placed in the
 world frame, its scripted actors, and each shape's section through a height band.
 
-The `<world>` is read as the top model of a robot description is: its `<model>`s,
-`<include>`s and `<frame>`s become the nested models and frames of one synthetic model
-whose frame is the world frame, so `sdf_include` expands the includes (`model://` through
-the model paths, the include's `<name>`/`<pose>`/`<static>` over the model's) and
-`sdf_frames` composes every pose (nested models, `relative_to`, SDF 1.4-1.6's
-`frame=`). Each `<collision>` of each link is then placed in the world frame; every
-element keeps its file and line, so a missing model or a malformed `<pose>` is one
-located `DescriptionError`.
-
-What is scenery and not an obstacle is left out without a word: lights, `<scene>`,
-`<physics>`, `<gui>`, plugins, `<plane>` geometry, Gazebo's own `model://sun` and
-`model://ground_plane` when no model path holds them, and Fuel (`https://`) includes of
-a ground plane or a sun. Any other Fuel include is one warning (btnav reads nothing from
-the network). A top-level model or include named as the robot is (`robot_names`) is the
-robot's spawn, not an obstacle, and its model files need not exist.
-
-`ground_shapes` cuts a collision by the height band [lo, hi] a 2D lidar sees and
-projects the section onto the ground: an upright box (any of its axes vertical) is a
-box, an upright cylinder, capsule or a sphere a circle (a sphere's or capsule's cap the
-circle of its section), an upright polyline its polygon; anything tilted or lying is the
-convex hull of its solid's section (exact for boxes, a 32-sided prism for cylinders). A
-mesh is kept when its vertices reach into the band and is the convex hull of all its
-vertices seen from above (a mesh table gives its whole top: meshes are not cut).
+The `<world>` is read as the top model of a robot description is, so `sdf_include` and
+`sdf_frames` expand includes and compose poses, and every element keeps its file and line
+for a located `DescriptionError`. Scenery (lights, physics, ground planes, the sun) is left
+out without a word, other network (Fuel) includes with one warning; a model named as the
+robot is its spawn. `ground_shapes` cuts each collision by the band a 2D lidar sees and
+projects the section onto the ground (boxes, circles, polygons, convex hulls; meshes are
+not cut). Details: docs/decisions/0085.
 """
 
 from __future__ import annotations

@@ -1,29 +1,11 @@
 """Pixels <-> occupancy values, exactly as Nav2's map_server reads and map_saver writes them.
 
 The semantics are those of Nav2's `nav2_map_server/src/map_io.cpp` (main branch, the
-version the maps in `shared/nav2` come from):
-
-Reading (every image is first reduced to 8-bit grey, as GraphicsMagick does):
-
-- `trinary` and `scale`: `n = 1 - grey/255` (`n = grey/255` when `negate`), computed
-  in float32 as map_server's Eigen code does. `n >= occupied_thresh` -> 100,
-  `n <= free_thresh` -> 0 (free wins when both hold); otherwise -1 in `trinary`, and
-  in `scale` `round((n - free) / (occupied - free) * 100)` (half away from zero).
-  A pixel with alpha < 255 is unknown (-1) in both modes.
-- `raw`: the grey value itself when it is 0..100, else -1; `negate` and alpha are
-  ignored.
-
-Writing (map_saver):
-
-- `trinary`: a cell <= rint(free_thresh*100) -> 254, >= rint(occupied_thresh*100) -> 0,
-  anything else (unknown, in between, out of 0..100) -> 205.
-- `scale`: grey = (100 - cell)/100 scaled to 16 bits (truncated) then to 8 bits, alpha
-  255; unknown -> grey 127 with alpha 0.
-- `raw`: the cell value as grey; unknown -> 255.
-
-Image row 0 is the top of the picture; grid row 0 is the bottom (the map origin), so
-both directions flip rows. Conversion goes through a 256-entry lookup table: exact
-per-pixel semantics at numpy speed.
+version the maps in `shared/nav2` come from) for `trinary`, `scale` and `raw`, reading
+through 8-bit grey (as GraphicsMagick does) in float32 as map_server's Eigen code. Image
+row 0 is the top of the picture, grid row 0 the bottom (the map origin), so both
+directions flip rows. Conversion goes through a 256-entry lookup table: exact per-pixel
+semantics at numpy speed. The rules per mode: docs/decisions/0019.
 """
 
 from __future__ import annotations

@@ -1,29 +1,10 @@
 """How wheel odometry drifts, per drive: AMCL's differential and omni models, run forward.
 
-Each update takes the true robot-frame motion since the last one and perturbs its
-parts with zero-mean Gaussian noise whose *variance* is linear in the motion (per
-metre or radian), not quadratic as in AMCL's sampler. Variances of independent
-increments add, so the drift after a path depends on the path (its length and total
-turning) and not on how often odometry is published: N updates of d metres give the
-variance of one update of N*d metres. With variances quadratic in the motion,
-doubling the rate would halve the drift.
-
-Differential (a diff drive, and a car: its motion is a turn, a drive and a turn too):
-
-    var(rot1)  = alpha1 * |rot1| + alpha2 * |trans|
-    var(trans) = alpha3 * |trans| + alpha4 * (|rot1| + |rot2|)
-    var(rot2)  = alpha1 * |rot2| + alpha2 * |trans|
-
-Over a straight line of length D (rot1 = rot2 = 0) the heading variance grows by
-2*alpha2*D and the along-track variance by alpha3*D; over an in-place turn of angle
-A the heading variance grows by alpha1*A and the position variance by alpha4*A.
-
-Omni (nav2_amcl::OmniMotionModel's parts and alphas): a translation along the
-motion's bearing, a strafe across it and a rotation,
-
-    var(trans)  = alpha3 * |trans| + alpha4 * |rot|
-    var(rot)    = alpha1 * |rot|   + alpha2 * |trans|
-    var(strafe) = alpha4 * |rot|   + alpha5 * |trans|
+Each update perturbs the true robot-frame motion's parts (AMCL's rot1, trans, rot2; for
+omni nav2_amcl::OmniMotionModel's trans, strafe, rot) with zero-mean Gaussian noise whose
+*variance* is linear in the motion, not quadratic as in AMCL's sampler: variances of
+independent increments add, so the drift after a path depends on the path and not on how
+often odometry is published. The formulas: docs/decisions/0022.
 """
 
 from __future__ import annotations

@@ -1,28 +1,11 @@
 """Cartographer's engine on a recorded log: `btnav slam LOG --lua FILE`.
 
-What cartographer_ros's offline node does with a bag: every scan goes through local
-SLAM (`LocalTrajectoryBuilder`: range data in the tracking frame, accumulation, the
-real-time correlative and Ceres-role matches into the active submaps, the motion
-filter) with the log's odometry at the scan's time as the prior (`use_odometry`), the
-nodes it inserts go to global SLAM (`CartographerMapper`: constraint search and an
-optimisation every `optimize_every_n_nodes`), and FinishTrajectory's final
-optimisation closes the run. The laser sits at the log's laser offset in the tracking
-frame.
-
-The odometry is read at each reading's first report (`fresh_odometry`): a logger that
-stamps every scan with the last odometry it heard repeats a pose while the odometry
-stalls, then jumps by everything the robot did meanwhile. MIT CSAIL's log does this
-three times (four scans with the same pose, then 85 degrees, 50 degrees or 0.9 m in
-one step); taken at face value, local SLAM holds still through the stall and is then
-told to turn 85 degrees in 0.2 s, far outside the real-time matcher's 20-degree
-window, and the rest of the map is turned by 70-90 degrees (189 cm mean relation
-error). Interpolated between first reports, the stall becomes the motion it hid.
-
-Every scan gets a pose, stamped with its time: its local SLAM pose (each scan is
-matched into the submaps, not only the nodes), moved by the optimisation's correction
-of the newest node at or before it; a scan local SLAM gave no pose (one still
-accumulating) is the previous one moved by the odometry. The map is every submap at its
-optimised pose, as map_saver saves /map (occupied above 0.65, free below 0.25).
+What cartographer_ros's offline node does with a bag: every scan through local SLAM with
+the log's odometry at its time as the prior, the nodes to global SLAM, and
+FinishTrajectory's final optimisation. Odometry is read at each reading's first report
+(`fresh_odometry`), since a logger that repeats a stalled pose and then jumps would turn
+the map (MIT CSAIL's log: see docs/decisions/0058). Every scan gets a pose, and the map is
+every submap at its optimised pose, as map_saver saves /map.
 """
 
 from __future__ import annotations

@@ -1,26 +1,12 @@
 """Cartographer's 2D submaps: probability grids that range data is inserted into, two at a time.
 
-A submap is a small map of its own, built from consecutive range data in the local
-SLAM frame and never changed once finished: local SLAM matches each scan against one
-(the older of the two active submaps, which holds more data), global SLAM matches
-nodes against finished ones to close loops and moves whole submaps when it optimises.
-
-- A cell stores a probability as Cartographer does, in 15 bits: 0 is "unknown", 1..32767
-  spread [0.1, 0.9] (`MIN_PROBABILITY`, `MAX_PROBABILITY`). Inserting range data
-  multiplies a cell's odds by the odds of `hit_probability` (an end point in it) or of
-  `miss_probability` (a ray through it), through a 32768-entry table: integer lookups,
-  the same bits everywhere. An unknown cell's first update sets it to that probability.
-  A cell is updated at most once per insertion, a hit taking precedence over a miss.
-- Rays are traced exactly: every cell a ray from the sensor passes through, found as
-  the cells on both sides of each grid line it crosses (Cartographer's sub-pixel
-  `RayToPixelMask`); one vectorised pass over all rays, de-duplicated with a mask.
-  Returns mark their end cell a hit and the cells before it misses; a ray with no return
-  (beyond `max_range`) marks misses out to `missing_data_ray_length`, its end included.
-- `ActiveSubmaps` keeps two submaps: a new one starts when the newer has `num_range_data`
-  insertions, and the older is finished at twice that (so each scan lands in two).
-
-All submaps of a trajectory share one cell lattice (cell centres a whole number of cells
-from the first range data's origin), so a ray is traced once for both active submaps.
+A submap is a small map built from consecutive range data and never changed once
+finished: local SLAM matches scans against one, global SLAM closes loops against finished
+ones. Cells store probabilities as Cartographer does, in 15 bits updated through an odds
+table (integer lookups, the same bits everywhere); rays are traced exactly as
+Cartographer's sub-pixel `RayToPixelMask`, in one vectorised pass; `ActiveSubmaps` keeps
+two. All submaps of a trajectory share one lattice, so a ray is traced once for both.
+Details: docs/decisions/0070.
 """
 
 from __future__ import annotations

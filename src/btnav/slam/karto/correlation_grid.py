@@ -1,29 +1,12 @@
 """Karto's CorrelationGrid: reference scans rasterised and smeared, ready for correlation.
 
-open_karto's scan matcher scores a candidate pose by summing, over the scan's end points,
-the value of a grid in which the reference scans' end points are occupied (100) and
-smeared by a Gaussian kernel. This module builds that grid and sums it for many
-candidate poses at once:
-
-- `find_valid_points` is Karto's FindValidPoints: a reference scan keeps only the
-  stretches of its points that turn counter-clockwise as seen from the matched scan's
-  viewpoint, i.e. surfaces facing it (a wall's back side is not matched against).
-- `CorrelationGrid.from_scans` is AddScans + SmearPoint. Karto's kernel is a square of
-  half size round(2 smear_deviation / resolution) cells holding
-  round(100 exp(-d^2 / (2 smear_deviation^2))); the max over occupied cells of that
-  kernel is the kernel's value at the smallest squared cell distance to an occupied cell
-  inside the square, which we compute exactly in integers with two separable min-plus
-  passes (one sparse, one dense over the grid); where the occupied cells are few for
-  the grid's area (open spaces) stamping the kernel per cell, as Karto does, is cheaper
-  and is used instead. Both give Karto's grid cell for cell.
-- `CorrelationGrid.window_sums` is GetResponse for every translation of a lattice and
-  every angle at once: an `as_strided` view makes a point's grid values over all the
-  translations one block, so one fancy index gathers them all.
-
-Cells are indexed relative to the search centre (cell (0, 0) is centred on it, as Karto
-centres its grid on the scan pose); `data[0, 0]` is cell (`row0`, `col0`). The grid
-covers the reference points (cut to Karto's region of interest) plus the kernel, padded
-with zeros so that any lookup window that touches the non-zero core stays inside.
+open_karto scores a candidate pose by summing, over the scan's end points, a grid in which
+the reference scans' end points are occupied and smeared by a Gaussian kernel. This module
+builds that grid (Karto's FindValidPoints, AddScans, SmearPoint; the smear as exact
+integer min-plus passes, or per-cell stamping where the occupied cells are few, both
+Karto's grid cell for cell) and sums it for every translation and angle at once through an
+`as_strided` view. Cells are indexed relative to the search centre, as Karto centres its
+grid on the scan pose. Details: docs/decisions/0055.
 """
 
 from __future__ import annotations

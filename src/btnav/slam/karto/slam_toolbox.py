@@ -1,24 +1,12 @@
 """`slam_toolbox` (`localization: slam`): slam_toolbox's online asynchronous mapping, driven
 by Nav2's `slam_toolbox:` section.
 
-Every scan is offered to the mapper through slam_toolbox's gate (`ScanGate`), then
-Karto's own (`Mapper.has_moved_enough`). After each
-processed scan `map -> odom` is set so that `map -> base_footprint` is the scan's
-corrected pose. The map is published on `map_update_interval` (and after the first
-scan) to every `subscribe_map` callback, as slam_toolbox's latched `/map`; it is
-rebuilt from every scan at its optimised pose after a loop closure. The map frame is
-anchored where `map -> odom` was when SLAM started (the mission's initial pose) unless
-`map_start_pose` is given. With `mode: localization` the pose graph in `map_file_name`
-(written by `serialize_pose_graph`, a mission's `pose_graph` output or `btnav slam`) is
-loaded, its map published, and the robot tracked on it (`GraphLocalizer`); nothing is
-added to the graph. With `mode: mapping` and `map_file_name` the graph is loaded and
-mapping goes on from it (slam_toolbox's continued mapping): the first scan is placed at
-`map_start_pose` (default: the start pose) and matched against the graph's scan nearest
-to it (`ContinuedMapper.process_near`), and later scans follow from there, their
-odometry carried into the graph's odometry frame (slam_toolbox's reprocessing
-transform). Without a `slam_toolbox:` section in the mission's params
-the section of slam_toolbox's own mapper_params_online_async.yaml applies (bundled in
-params/), the file Nav2's slam_launch.py hands slam_toolbox.
+Every scan passes slam_toolbox's gate (`ScanGate`) and Karto's, then `map -> odom` is set
+so that `map -> base_footprint` is the scan's corrected pose; the map is published on
+`map_update_interval`, as slam_toolbox's latched `/map`. `mode: localization` tracks the
+robot on a loaded pose graph (`GraphLocalizer`); `mode: mapping` with `map_file_name`
+continues mapping from it (`ContinuedMapper`). Without a `slam_toolbox:` section, slam_toolbox's
+own mapper_params_online_async.yaml applies (bundled in params/). Details: docs/decisions/0055.
 """
 
 from __future__ import annotations

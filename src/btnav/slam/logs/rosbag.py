@@ -1,23 +1,11 @@
 """ROS 1 bags and ROS 2 bags (sqlite3 or MCAP storage), without ROS.
 
-Read with the pure-Python `rosbags` library (the optional extra `btnav[logs]`). The
-scans are the `sensor_msgs/msg/LaserScan` messages of one topic; the odometry is the
-`nav_msgs/msg/Odometry` messages of one topic or, when the bag has none, the
-`odom -> base_footprint` (or `base_link`) transform on `/tf`, as slam_toolbox takes
-it. Each message is placed at its header stamp, not at the time it was recorded.
-
-The topic is chosen for the user when the bag has exactly one of the kind; otherwise
-the error lists the candidates and names `--scan-topic` / `--odom-topic`
-(`--odom-topic /tf` asks for the transform even when an Odometry topic exists).
-
-The laser's offset on the robot comes from the transforms (`/tf_static`, then `/tf`)
-from the odometry's child frame to the scans' frame; without such a chain the laser
-is taken at the robot's origin and a `BtnavWarning` says so.
-
-A message that cannot be read, or whose pose, angle or stamp is not finite or beyond
-any real log's (`recorded_log.LIMITS`), is a `LogError` naming its topic, its number
-on that topic and its time; a damaged ROS 1 bag's error adds the byte offset of the
-chunk that failed, a truncated one's where its index should have been.
+Read with the pure-Python `rosbags` library (the optional extra `btnav[logs]`): the
+LaserScan messages of one topic and the Odometry of one topic or, without one, the
+`odom -> base_footprint` transform on `/tf`, as slam_toolbox takes it, each at its header
+stamp. A topic is chosen for the user when it is the only one of its kind; the laser's
+offset comes from the transforms. A bad message is a `LogError` naming its topic, number
+and time. Details: docs/decisions/0057.
 """
 
 from __future__ import annotations
