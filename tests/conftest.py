@@ -1,7 +1,11 @@
-"""Shared test fixtures: where Nav2's own files live."""
+"""Shared test fixtures: where Nav2's own files live; what numba compiled."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -22,3 +26,32 @@ def nav2_dir() -> Path:
 @pytest.fixture(scope="session")
 def nav2_params_file(nav2_dir: Path) -> Path:
     return nav2_dir / "params" / "nav2_params.yaml"
+
+
+#: x86-64's fused multiply-add instructions (vfmadd231sd, vfnmsub132ps, ...).
+FUSED_MULTIPLY_ADD = r"\bv?f(?:n?m(?:add|sub))\w*"
+
+_COUNT_FUSED = """
+import re
+text = "".join(a for f in ({kernels}) for a in f.inspect_asm().values())
+print(len(text), len(re.findall({pattern!r}, text)))
+"""
+
+
+@pytest.fixture
+def fused_multiply_adds(tmp_path: Path) -> Callable[[str, str], tuple[int, int]]:
+    """`count(setup, kernels) -> (characters of assembly, fused multiply-adds in it)`:
+    `setup` compiles the kernels in a fresh interpreter with an empty numba cache (only a
+    fresh compile can show its assembly); `kernels` is the tuple of them, as code."""
+
+    def count(setup: str, kernels: str) -> tuple[int, int]:
+        code = setup + _COUNT_FUSED.format(kernels=kernels, pattern=FUSED_MULTIPLY_ADD)
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+        done = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True,
+            check=True, cwd=REPO,
+        )  # fmt: skip
+        n_chars, n_fused = (int(v) for v in done.stdout.split())
+        return n_chars, n_fused
+
+    return count

@@ -6,10 +6,6 @@ Python descent; the kernels are navfn_kernel's.
 
 from __future__ import annotations
 
-import os
-import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -168,30 +164,46 @@ def test_descents_near_the_grids_edges_are_the_references() -> None:
     assert handed_over > 10
 
 
+def _numpy_and_kernel_planners() -> list[NavfnPlanner]:
+    planners = []
+    for method in ("numpy", "kernel"):
+        planner = NavfnPlanner("GridBased", NavfnPlanner.Params())
+        planner.method = method
+        planners.append(planner)
+    return planners
+
+
+def _same_plan(
+    planners: list[NavfnPlanner], start: Pose2D, goal: Pose2D, cm: Costmap2D
+) -> np.ndarray | None:
+    """Both paths plan `start` -> `goal` on `cm`: the same poses and potential, or the same
+    failure (then None)."""
+    outs = []
+    for p in planners:
+        try:
+            outs.append((p.create_plan(start, goal, cm).poses, p.potential))
+        except PlannerException as exc:
+            outs.append((type(exc), None))
+    (a, pa), (b, pb) = outs
+    if not isinstance(a, np.ndarray):
+        assert a == b
+        return None
+    assert np.array_equal(a, b) and np.array_equal(pa, pb)
+    return a
+
+
 def test_planner_plans_are_the_same_on_nav2s_benchmark_map(benchmark_costmap) -> None:
     """NavfnPlanner as the planner server runs it: a goal every few metres, some in
     walls (tolerance), the graph reused between plans on a changing costmap."""
     rng = np.random.default_rng(3)
     costs = inflate(benchmark_costmap.costs, RES, 0.22, 0.55, 3.0)
     cm = Costmap2D(costs, RES, benchmark_costmap.origin_x, benchmark_costmap.origin_y)
-    planners = {m: NavfnPlanner("GridBased", NavfnPlanner.Params()) for m in ("numpy", "kernel")}
-    for m, p in planners.items():
-        p.method = m
+    planners = _numpy_and_kernel_planners()
     for _ in range(8):
         start = Pose2D(*(cm.map_to_world(free_cells(cm, rng, 1)[0])), 0.0)
         goal = Pose2D(*(cm.map_to_world(free_cells(cm, rng, 1)[0]) + rng.normal(0, 0.3, 2)), 1.0)
         cm.costs[rng.integers(0, 400, 30), rng.integers(0, 400, 30)] = 254  # new obstacles
-        outs = []
-        for p in planners.values():
-            try:
-                outs.append((p.create_plan(start, goal, cm).poses, p.potential))
-            except PlannerException as exc:
-                outs.append((type(exc), None))
-        (a, pa), (b, pb) = outs
-        if isinstance(a, np.ndarray):
-            assert np.array_equal(a, b) and np.array_equal(pa, pb)
-        else:
-            assert a == b
+        _same_plan(planners, start, goal, cm)
 
 
 @pytest.mark.parametrize("name", ["tb3_sandbox", "depot"])
@@ -203,33 +215,21 @@ def test_planner_plans_are_the_same_on_nav2s_maps(nav2_dir: Path, name: str) -> 
     costs = inflate(interpret_values(grid.data), grid.resolution, 0.22, 0.55, 3.0)
     cm = Costmap2D(costs, grid.resolution, grid.origin.x, grid.origin.y)
     rng = np.random.default_rng(len(name))
-    planners = {m: NavfnPlanner("GridBased", NavfnPlanner.Params()) for m in ("numpy", "kernel")}
-    for m, p in planners.items():
-        p.method = m
+    planners = _numpy_and_kernel_planners()
     start = Pose2D(*cm.map_to_world(free_cells(cm, rng, 1)[0]), 0.0)
     planned = 0
     for _ in range(5):
         goal = Pose2D(*cm.map_to_world(free_cells(cm, rng, 1)[0]), 0.0)
         ys, xs = rng.integers(0, cm.size_y, 40), rng.integers(0, cm.size_x, 40)
         cm.costs[ys, xs] = 254
-        outs = []
-        for p in planners.values():
-            try:
-                outs.append((p.create_plan(start, goal, cm).poses, p.potential))
-            except PlannerException as exc:
-                outs.append((type(exc), None))
-        (a, pa), (b, pb) = outs
-        if isinstance(a, np.ndarray):
-            assert np.array_equal(a, b) and np.array_equal(pa, pb)
+        poses = _same_plan(planners, start, goal, cm)
+        if poses is not None:
             planned += 1
-            start = Pose2D(*a[len(a) // 3, :2], 0.0)  # part of the way there
-        else:
-            assert a == b
+            start = Pose2D(*poses[len(poses) // 3, :2], 0.0)  # part of the way there
     assert planned >= 3
 
 
-_SUBPROCESS = r"""
-import re
+_COMPILE = """
 import numpy as np
 from btnav.costmap.costmap_2d import Costmap2D
 from btnav.costmap.obstacle_layer import free_along
@@ -242,19 +242,11 @@ pot = compute_potential(GridGraph(20, 20), c, (2, 2), (15, 12))
 extract_path(pot, (15, 12), (2, 2), 80)
 free_along(cm, np.array([0.3, 0.3]), np.array([[0.3, 0.3]]), np.array([[0.9, 0.7]]))
 inflation_kernel.inflate_window(cm.costs, 0, 0, 20, 20, 3, np.zeros(11, np.uint8), False, False)
-kernels = (navfn_kernel.dijkstra, navfn_kernel.descend, raytrace_kernel.clear_rays)
-text = "".join(a for f in kernels for a in f.inspect_asm().values())
-print(len(text), len(re.findall(r"\bv?f(?:n?m(?:add|sub))\w*", text)))
 """
 
 
-def test_no_fused_multiply_add_in_the_kernels(tmp_path) -> None:
+def test_no_fused_multiply_add_in_the_kernels(fused_multiply_adds) -> None:
     """LLVM contracted no a * b + c (the descent's and the raytrace's bits depend on it)."""
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    done = subprocess.run(
-        [sys.executable, "-c", _SUBPROCESS], env=env, capture_output=True, text=True,
-        check=True, cwd=REPO,
-    )  # fmt: skip
-    n_chars, n_fused = (int(v) for v in done.stdout.split())
+    kernels = "navfn_kernel.dijkstra, navfn_kernel.descend, raytrace_kernel.clear_rays"
+    n_chars, n_fused = fused_multiply_adds(_COMPILE, kernels)
     assert n_chars > 10_000 and n_fused == 0
-    assert re.search(r"\d", done.stdout)
