@@ -31,7 +31,6 @@ from ..core.messages import Path
 from ..core.path_utils import (
     closest_pose,
     first_after_integrated_distance,
-    first_beyond,
     segment_lengths,
 )
 from ..costmap.costmap_2d import Costmap2D
@@ -45,11 +44,9 @@ __all__ = [
     "FeasiblePathHandler",
     "PathHandler",
     "closest_index",
-    "closest_within",
     "first_path_constraint",
     "integrated_index",
     "segment_lengths",
-    "window_end",
 ]
 
 
@@ -82,23 +79,6 @@ def closest_index(
     see `integrated_index`)."""
     finite = math.isfinite(search_dist)
     upper = integrated_index(poses, 0, search_dist, seg) if finite else len(poses)
-    return closest_pose(poses, x, y, 0, max(upper, 1))
-
-
-def window_end(n: int, start: int, along: NDArray[np.float64], distance: float) -> int:
-    """`integrated_index(poses, start, distance)` of n poses, given the running lengths
-    from `start` (`np.cumsum(segment_lengths(poses)[start:])`)."""
-    if start >= n:
-        return n
-    k = first_beyond(along, distance)
-    return start + 1 + k if k < len(along) else n
-
-
-def closest_within(
-    poses: NDArray[np.float64], along: NDArray[np.float64], x: float, y: float, search: float
-) -> int:
-    """`closest_index(poses, x, y, search)`, given `along = np.cumsum(segment_lengths(poses))`."""
-    upper = window_end(len(poses), 0, along, search) if math.isfinite(search) else len(poses)
     return closest_pose(poses, x, y, 0, max(upper, 1))
 
 

@@ -38,7 +38,7 @@ from ..plugins import register
 from .controller import Controller
 from .exceptions import InvalidPath, NoValidControl
 from .goal_checkers import path_length
-from .path_handler import closest_within, segment_lengths, window_end
+from .path_handler import closest_index, integrated_index, segment_lengths
 
 _DW = "used only by use_dynamic_window, which btnav's RPP does not implement yet"
 
@@ -206,14 +206,12 @@ class RegulatedPurePursuitController(Controller):
         seg = self._seg
         if self._seg_of is not plan or seg is None:
             seg = segment_lengths(plan)
-        along = np.cumsum(seg)  # the running sums closest_index / integrated_index add
-        closest = closest_within(plan, along, x, y, search)
+        closest = closest_index(plan, x, y, search, seg)
         if closest:
             plan = self._plan = plan[closest:]
             seg = seg[closest:]
-            along = np.cumsum(seg)
         self._seg, self._seg_of = seg, plan
-        end = window_end(len(plan), 0, along, 2.0 * extent)
+        end = integrated_index(plan, 0, 2.0 * extent, seg)
         window = plan[:end]
         dx = window[:, 0] - x
         dy = window[:, 1] - y
