@@ -12,9 +12,6 @@ numpy path, by a compiled pass bounded by the inflation radius otherwise
 
 from __future__ import annotations
 
-import os
-from typing import Literal
-
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field
@@ -22,6 +19,7 @@ from scipy.ndimage import distance_transform_edt
 
 from ..core import fmath
 from ..core.geometry import Pose2D
+from ..core.kernel_switch import Method, default_method
 from ..plugins import register
 from .cost_values import (
     FREE_SPACE,
@@ -33,9 +31,8 @@ from .costmap_2d import Costmap2D
 from .inflation_kernel import inflate_window
 from .layer import Bounds, Layer, Window
 
-Method = Literal["kernel", "numpy"]
 #: inflation_kernel's compiled pass, or scipy's transform (BTNAV_COSTMAP=numpy).
-DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_COSTMAP") == "numpy" else "kernel"
+DEFAULT_METHOD: Method = default_method("BTNAV_COSTMAP")
 
 
 def inflation_cost(

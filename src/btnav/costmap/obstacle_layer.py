@@ -28,10 +28,9 @@ traced at once: one numpy array of cells for the whole scan.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,6 +40,7 @@ from ..core import fmath
 from ..core.errors import FrameError
 from ..core.frames import FrameTree
 from ..core.geometry import Pose2D
+from ..core.kernel_switch import Method, default_method
 from ..core.messages import LaserScan
 from ..params.schema import (
     FieldProblem,
@@ -61,10 +61,9 @@ from .raytrace_kernel import clear_rays
 #: Nav2 stores +inf returns as range_max minus a tenth of a millimetre.
 INF_EPSILON = 1e-4
 
-Method = Literal["kernel", "numpy"]
 #: How the layer clears along its beams: raytrace_kernel's compiled loop, or trace_flat's
 #: arrays (BTNAV_COSTMAP=numpy in the environment); the same cells either way.
-DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_COSTMAP") == "numpy" else "kernel"
+DEFAULT_METHOD: Method = default_method("BTNAV_COSTMAP")
 
 
 class ObservationSource(ParamsModel):

@@ -30,10 +30,8 @@ The algorithm of nav2_navfn_planner (navfn.cpp), restated for numpy:
 from __future__ import annotations
 
 import math
-import os
 from array import array
 from collections.abc import Callable
-from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,14 +39,14 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from ..core import fmath
+from ..core.kernel_switch import Method, default_method
 from ..costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from . import navfn_kernel
 from .exceptions import PlannerCancelled
 
-Method = Literal["kernel", "numpy"]
 #: The search and the descent compiled (navfn_kernel) or scipy's and Python's, the same
 #: bits either way; BTNAV_NAVFN=numpy in the environment runs the reference.
-DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_NAVFN") == "numpy" else "kernel"
+DEFAULT_METHOD: Method = default_method("BTNAV_NAVFN")
 
 COST_NEUTRAL = 50
 COST_FACTOR = 0.8

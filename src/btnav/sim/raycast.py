@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import importlib
 import math
-import os
 import warnings
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..core import fmath
+from ..core.kernel_switch import Method, default_method
 from .geometry import Geometry
 
 if TYPE_CHECKING:
@@ -61,10 +61,9 @@ _NO_ROWS = np.zeros((0, 2))
 #: Where rays end when `max_range` is infinite (metres): no world is this big.
 _FAR = 1e100
 
-Method = Literal["kernel", "numpy"]
 #: How a `RayCaster` made without a `method` casts: the compiled grid walk, or numpy
 #: (environment variable BTNAV_RAYCAST=numpy; the same bits either way).
-DEFAULT_METHOD: Method = "numpy" if os.environ.get("BTNAV_RAYCAST") == "numpy" else "kernel"
+DEFAULT_METHOD: Method = default_method("BTNAV_RAYCAST")
 
 
 def beam_directions(angles: ArrayLike) -> NDArray[np.float64]:
