@@ -1,18 +1,14 @@
 """CriticData.furthest_reached_path_point's compiled search (furthest_point_kernel.py)
 returns numpy's integer: random batches against paths of 2 to 100 points, rollouts that
 stand still, crawl or travel far beyond the path, exact ties (rollouts ending on a path
-point's mirror, repeated path points), the early exit at the path's end, a NaN, numpy's
-pairwise row sums, and whole controller cycles."""
+point's mirror, repeated path points), the early exit at the path's end, a NaN, and whole controller cycles."""
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 import pytest
 
-from btnav.control.mppi.critic_data import CriticData
-from btnav.control.mppi.furthest_point_kernel import _pairwise_sum
-from btnav.control.mppi.kernel_switch import DEFAULT_METHOD
+from btnav.control.mppi.critic_data import DEFAULT_METHOD, CriticData
 
 from .batch import make_data
 from .test_path_align_kernel import random_path
@@ -89,21 +85,6 @@ def test_a_nan_and_a_two_point_path(monkeypatch):
     trajs[5, 10, 1] = np.nan
     a, k = both(trajs, random_path(rng, 40), monkeypatch)
     assert a == k
-
-
-@nb.njit
-def _row_sums(a):
-    out = np.empty(a.shape[0], np.float32)
-    for b in range(a.shape[0]):
-        out[b] = np.float32(0.0) + _pairwise_sum(a[b], 0, a.shape[1])
-    return out
-
-
-def test_row_sums_are_numpy_s_pairwise_sums():
-    rng = np.random.default_rng(5)
-    for n in [*range(0, 140), 255, 256, 257, 1000, 9000]:
-        a = (rng.random((8, n)) * rng.choice([1e-3, 1.0, 1e4], (8, 1))).astype(np.float32)
-        assert same_bits(a.sum(axis=1, dtype=np.float32), _row_sums(a))
 
 
 def test_the_default_is_the_optimizer_switch():

@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from btnav.control.mppi.critic_data import DEFAULT_METHOD
 from btnav.control.mppi.critics import PathAlignCritic, path_align_critic
-from btnav.control.mppi.kernel_switch import DEFAULT_METHOD
 
 from .batch import make_data, straight_path
 from .test_rollout_kernel import controller, same_bits, step_cycle

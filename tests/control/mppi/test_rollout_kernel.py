@@ -126,7 +126,10 @@ def controller(motion_model: str, method: str, **params: object) -> MPPIControll
     c = MPPIController(
         "FollowPath", MPPIParams(batch_size=500, motion_model=motion_model, **params), seed=5
     )
-    c.optimizer.rollout_method = method  # type: ignore[assignment]
+    c.optimizer.method = method  # type: ignore[assignment]
+    for critic in c.optimizer.critics:
+        if hasattr(critic, "method"):
+            critic.method = method
     c.control_duration = 0.05
     c.set_plan(curved_path())
     return c

@@ -22,13 +22,17 @@ from numpy.typing import NDArray
 
 from ...core import fmath
 from ...core.errors import ParamsError
+from ...core.kernel_switch import Method, default_method
 from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
 from .furthest_point_kernel import furthest_reached
-from .kernel_switch import DEFAULT_METHOD, KernelMethod
 
 F32 = NDArray[np.float32]
+
+#: How MPPI's hot loops run: "kernel" (numba) unless the environment says
+#: BTNAV_MPPI=numpy (the reference, the same bits); the optimizer and critics read it.
+DEFAULT_METHOD: Method = default_method("BTNAV_MPPI")
 
 
 @dataclass
@@ -64,7 +68,7 @@ class CriticData:
     fail_flag: bool = False
     #: DEFAULT_METHOD (BTNAV_MPPI=numpy): how `furthest_reached_path_point` runs; the
     #: same integer either way.
-    method: ClassVar[KernelMethod] = DEFAULT_METHOD
+    method: ClassVar[Method] = DEFAULT_METHOD
     _furthest: int | None = field(default=None, repr=False)
     _valid: NDArray[np.bool_] | None = field(default=None, repr=False)
     _path_length: float | None = field(default=None, repr=False)

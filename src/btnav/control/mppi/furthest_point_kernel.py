@@ -14,8 +14,7 @@ Same integer as numpy, because every float compared is numpy's float, bit for bi
   then the exact float32 sqrt;
 - the path's running length as np.cumsum: each segment added to the previous sum;
 - a rollout's travelled length as `.sum(axis=1)` on the C-ordered (B, T - 1) lengths:
-  numpy reduces a contiguous row by pairwise summation (`_pairwise_sum`: a plain loop
-  under 8 values, eight interleaved sums up to 128, halves at multiples of 8 beyond),
+  numpy reduces a contiguous row by pairwise summation (pairwise_sum.py),
   added to the identity 0;
 - the reach as np.searchsorted(side="left"): the number of path lengths below the
   travelled one in numpy's sort order (a NaN above everything), capped at P - 1;
@@ -33,68 +32,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...core.fmath_kernels import JIT
+from .pairwise_sum import pairwise_sum
 
 F32 = NDArray[np.float32]
-
-#: numpy's PW_BLOCKSIZE: rows longer than this are split in halves.
-_PW_BLOCKSIZE = 128
-
-
-@nb.njit(**JIT)
-def _block_sum(a: F32, lo: int, n: int) -> np.float32:
-    """numpy's pairwise sum of a[lo:lo + n] for n <= 128: a plain loop under 8 values,
-    else eight interleaved float32 sums, combined in pairs, then the rest in order."""
-    if n < 8:
-        res = np.float32(-0.0)
-        for i in range(lo, lo + n):
-            res = res + a[i]
-        return res
-    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
-    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
-    i = 8
-    end = n - n % 8
-    while i < end:
-        j = lo + i
-        r0, r1, r2, r3 = r0 + a[j], r1 + a[j + 1], r2 + a[j + 2], r3 + a[j + 3]
-        r4, r5, r6, r7 = r4 + a[j + 4], r5 + a[j + 5], r6 + a[j + 6], r7 + a[j + 7]
-        i += 8
-    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
-    while i < n:
-        res = res + a[lo + i]
-        i += 1
-    return res
-
-
-@nb.njit(**JIT)
-def _pairwise_sum(a: F32, lo: int, n: int) -> np.float32:
-    """numpy's FLOAT_pairwise_sum of a[lo:lo + n]: blocks of at most 128 values, longer
-    runs split in halves at a multiple of 8 and the halves' sums added. numpy recurses;
-    numba's cache cannot hold a self-recursive function, so the same tree is walked with
-    explicit stacks (a node (lo, n), or -1: add the last two sums)."""
-    if n <= _PW_BLOCKSIZE:
-        return _block_sum(a, lo, n)
-    todo_lo = np.empty(256, np.int64)
-    todo_n = np.empty(256, np.int64)
-    sums = np.empty(128, np.float32)
-    top, k = 0, 0
-    todo_lo[0], todo_n[0] = lo, n
-    while top >= 0:
-        s, m = todo_lo[top], todo_n[top]
-        top -= 1
-        if m < 0:
-            k -= 1
-            sums[k - 1] = sums[k - 1] + sums[k]
-        elif m <= _PW_BLOCKSIZE:
-            sums[k] = _block_sum(a, s, m)
-            k += 1
-        else:
-            m2 = m // 2
-            m2 -= m2 % 8
-            todo_lo[top + 1], todo_n[top + 1] = 0, -1  # then add the halves
-            todo_lo[top + 2], todo_n[top + 2] = s + m2, m - m2  # then the right half
-            todo_lo[top + 3], todo_n[top + 3] = s, m2  # the left half first
-            top += 3
-    return sums[0]
 
 
 @nb.njit(**JIT)
@@ -122,7 +62,7 @@ def furthest_reached(x: F32, y: F32, px: F32, py: F32) -> int:
         for t in range(T - 1):
             dx, dy = x[b, t + 1] - x[b, t], y[b, t + 1] - y[b, t]
             seg[t] = np.sqrt(dx * dx + dy * dy)
-        travelled = np.float32(0.0) + _pairwise_sum(seg, 0, T - 1)
+        travelled = np.float32(pairwise_sum(seg))
         reach = 0  # lower_bound: how many path lengths lie below the travelled one
         while reach < n and _below(path_s[reach], travelled):
             reach += 1

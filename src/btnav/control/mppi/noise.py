@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from .perturb_kernel import perturb
+
 
 class NoiseGenerator:
     def __init__(
@@ -48,9 +50,10 @@ class NoiseGenerator:
         )
         self._cursor = 0
 
-    def sample(self, out: NDArray[np.float32]) -> NDArray[np.float32]:
-        """Noise for one iteration, (time_steps, channels, batch_size), written into `out`
-        (the optimizer's controls buffer: no buffer of its own)."""
+    def _draw(self) -> tuple[NDArray[np.int64], NDArray[np.float32]]:
+        """This iteration's random choices: the pool's refreshed slice (with
+        `regenerate`), each channel's offset into the pool, and the (C, B) scale rows
+        (a random sign per rollout times the channel's std)."""
         if self.regenerate:
             lo = self._cursor
             hi = min(lo + self.refresh_cols, self.pool_cols)
@@ -61,10 +64,22 @@ class NoiseGenerator:
         b = self.batch_size
         starts = self.rng.integers(0, self.pool_cols - b + 1, self.channels)
         signs = np.where(self.rng.random(b) < 0.5, np.float32(-1.0), np.float32(1.0))
+        scale = np.empty((self.channels, b), np.float32)
         for ch in range(self.channels):
-            np.multiply(
-                self.pool[ch, :, starts[ch] : starts[ch] + b],
-                signs * self.stds[ch],
-                out=out[:, ch, :],
-            )
+            np.multiply(signs, self.stds[ch], out=scale[ch])
+        return starts, scale
+
+    def sample(self, out: NDArray[np.float32]) -> NDArray[np.float32]:
+        """Noise for one iteration, (time_steps, channels, batch_size), written into `out`
+        (the optimizer's controls buffer: no buffer of its own)."""
+        starts, scale = self._draw()
+        b = self.batch_size
+        for ch in range(self.channels):
+            np.multiply(self.pool[ch, :, starts[ch] : starts[ch] + b], scale[ch], out=out[:, ch, :])
         return out
+
+    def sample_controls(self, out: NDArray[np.float32], sequence: NDArray[np.float32]) -> None:
+        """`sample(out)` plus the (T, C) control `sequence`, in one compiled pass
+        (perturb_kernel.py, the same bits as the multiply and the add)."""
+        starts, scale = self._draw()
+        perturb(self.pool, starts, scale, sequence, out)

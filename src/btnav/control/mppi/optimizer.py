@@ -44,16 +44,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...core import fmath
+from ...core.kernel_switch import Method
 from ...costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from ...costmap.costmap_2d import Costmap2D
 from ...costmap.footprint_cost import footprint_costs
-from .critic_data import CriticData, cell_costs
+from .critic_data import DEFAULT_METHOD, CriticData, cell_costs
 from .critic_function import CriticFunction
-from .kernel_switch import DEFAULT_METHOD, KernelMethod
 from .motion_models import MotionModel
 from .noise import NoiseGenerator
 from .rollout_kernel import predict_rollouts
+from .sequence_limits_kernel import limit_sequence
 from .smoothing import HISTORY, savitzky_golay
+from .softmax_kernel import softmax_mean
 
 F32 = NDArray[np.float32]
 
@@ -109,9 +111,10 @@ class Optimizer:
         #: The local costmap server (footprint), once the controller is configured.
         self.costmap_ros: Any = None
         self.holonomic = model.holonomic
-        #: "kernel" or "numpy" (DEFAULT_METHOD); the compiled pass only runs the base
+        #: "kernel" or "numpy" (DEFAULT_METHOD): the sampling, rollouts, softmax and
+        #: sequence limits compiled or in numpy; the compiled rollouts only run the base
         #: MotionModel.predict, so a model overriding it always takes the numpy path.
-        self.rollout_method: KernelMethod = DEFAULT_METHOD
+        self.method: Method = DEFAULT_METHOD
         T, B, C = settings.time_steps, settings.batch_size, model.channels
         stds = [settings.vx_std, settings.wz_std, settings.vy_std][:C]
         self.stds = stds
@@ -224,10 +227,13 @@ class Optimizer:
         # Sampled controls: the current sequence plus noise, raw (the ConstraintCritic
         # scores what leaves the velocity box); the rollouts follow them as far as the
         # acceleration limits allow from the robot's speed.
-        self.noise.sample(out=u)
-        np.add(u, self._sequence_channels(), out=u)
+        if self.method == "kernel":
+            self.noise.sample_controls(u, np.ascontiguousarray(self._sequence_channels()[:, :, 0]))
+        else:
+            self.noise.sample(out=u)
+            np.add(u, self._sequence_channels(), out=u)
         speeds = np.array([speed[0], speed[2], speed[1]][: self.model.channels], np.float32)
-        if self.rollout_method == "kernel" and type(self.model).predict is MotionModel.predict:
+        if self.method == "kernel" and type(self.model).predict is MotionModel.predict:
             self._rollouts_compiled(robot, speeds)
         else:
             self.model.predict(u, v, speeds, write_back=s.clamp_raw_controls)
@@ -332,27 +338,16 @@ class Optimizer:
         )
 
     def _update_control_sequence(self, costs: F32, speed: tuple[float, float, float]) -> None:
-        s, cs, u = self.s, self.control_sequence, self.u
-        # Control cost: gamma / std^2 * sum_t (noise_t * u_t), noise = sampled - current.
-        seq = self._sequence_channels()[:, :, 0]  # (T, C)
-        prod = self._prod  # (T, C, B) scratch for the elementwise products
-        prod_t = prod.reshape(-1)[: u.shape[0] * u.shape[2]].reshape(u.shape[0], u.shape[2])
-        if s.gamma != 0.0:
-            for ch, std in enumerate(self.stds):
-                if std <= 0.0:
-                    continue
-                uc = seq[:, ch]
-                # sum_t (sampled - u) u = u . sampled - u . u, as elementwise products and
-                # sums (a BLAS product's summation order depends on the CPU); the same
-                # products and sum as fmath.weighted_sum(u[:, ch], uc, axis=0)
-                p = np.multiply(u[:, ch], uc[:, None], out=prod_t)
-                cost = p.sum(axis=0)
-                cost -= np.float32(fmath.weighted_sum(uc, uc))
-                costs += np.float32(s.gamma / std**2) * cost
-        shifted = costs - costs.min()
-        weights = fmath.exp(shifted * np.float32(-1.0 / s.temperature))
-        weights /= weights.sum()
-        mean = np.multiply(u, weights, out=prod).sum(axis=-1)  # fmath.weighted_sum(u, weights)
+        s, cs = self.s, self.control_sequence
+        seq = np.ascontiguousarray(self._sequence_channels()[:, :, 0])  # (T, C)
+        if self.method == "kernel":
+            mean = self._softmax_compiled(costs, seq)
+        else:
+            self._control_costs(costs, seq)
+            shifted = costs - costs.min()
+            weights = fmath.exp(shifted * np.float32(-1.0 / s.temperature))
+            weights /= weights.sum()
+            mean = np.multiply(self.u, weights, out=self._prod).sum(axis=-1)
         cs[:, 0] = mean[:, 0]
         cs[:, 2] = mean[:, 1]
         if self.holonomic:
@@ -360,6 +355,41 @@ class Optimizer:
         offset = 1 if s.shift_control_sequence else 0
         savitzky_golay(cs, self.control_history, s.sgf_order, offset)
         self._apply_sequence_constraints(speed)
+
+    def _control_costs(self, costs: F32, seq: F32) -> None:
+        """Control cost: gamma / std^2 * sum_t (noise_t * u_t), noise = sampled - current,
+        added to `costs`."""
+        s, u, prod = self.s, self.u, self._prod
+        prod_t = prod.reshape(-1)[: u.shape[0] * u.shape[2]].reshape(u.shape[0], u.shape[2])
+        if s.gamma == 0.0:
+            return
+        for ch, std in enumerate(self.stds):
+            if std <= 0.0:
+                continue
+            uc = seq[:, ch]
+            # sum_t (sampled - u) u = u . sampled - u . u, as elementwise products and
+            # sums (a BLAS product's summation order depends on the CPU); the same
+            # products and sum as fmath.weighted_sum(u[:, ch], uc, axis=0)
+            p = np.multiply(u[:, ch], uc[:, None], out=prod_t)
+            cost = p.sum(axis=0)
+            cost -= np.float32(fmath.weighted_sum(uc, uc))
+            costs += np.float32(s.gamma / std**2) * cost
+
+    def _softmax_compiled(self, costs: F32, seq: F32) -> F32:
+        """`_control_costs`, the softmax weights and the weighted mean of the samples
+        (T, C) in one compiled pass (softmax_kernel.py, the same bits)."""
+        s, C = self.s, self.model.channels
+        active = np.array([s.gamma != 0.0 and std > 0.0 for std in self.stds], np.bool_)
+        gains = np.zeros(C, np.float32)
+        self_dot = np.zeros(C, np.float32)
+        for ch in np.flatnonzero(active):
+            uc = seq[:, ch]
+            gains[ch] = np.float32(s.gamma / self.stds[ch] ** 2)
+            self_dot[ch] = np.float32(fmath.weighted_sum(uc, uc))
+        mean = np.empty((seq.shape[0], C), np.float32)
+        neg_inv_t = np.float32(-1.0 / s.temperature)
+        softmax_mean(self.u, seq, active, gains, self_dot, costs, neg_inv_t, mean)
+        return mean
 
     def _apply_sequence_constraints(self, speed: tuple[float, float, float]) -> None:
         """Nav2's applyControlSequenceConstraints: the optimal sequence within the
@@ -375,6 +405,10 @@ class Optimizer:
         if self.holonomic:
             channels.append((1, speed[1], -c.vy_max, c.vy_max, c.ay_min, c.ay_max))
         for col, last, lo, hi, a_down, a_up in channels:
+            if self.method == "kernel":
+                limits = (float(v) for v in (last, lo, hi, a_down, a_up))
+                limit_sequence(cs[:, col], *limits, s.controller_period, s.model_dt)
+                continue
             values = cs[:, col].tolist()
             dt = s.controller_period
             for i, value in enumerate(values):

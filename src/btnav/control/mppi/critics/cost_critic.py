@@ -7,9 +7,18 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
+from ....core.kernel_switch import Method
 from ....params.schema import Why, ignored
 from ....plugins import register
-from ..critic_data import CriticData, cell_costs, check_footprint_setting, collision_check
+from ..cost_critic_kernel import cost_critic_costs
+from ..critic_data import (
+    DEFAULT_METHOD,
+    CriticData,
+    cell_costs,
+    check_footprint_setting,
+    collision_check,
+    tracking_unknown,
+)
 from ..critic_function import NAMESPACE, CriticFunction
 
 
@@ -49,6 +58,10 @@ class CostCritic(CriticFunction):
         )
         trajectory_visualization: bool = ignored(False, Why.VIZ)
 
+    #: "kernel" (cost_critic_kernel.py) or "numpy" (the reference), the optimizer's
+    #: DEFAULT_METHOD (BTNAV_MPPI=numpy); the same bits either way.
+    method: Method = DEFAULT_METHOD
+
     def configure(self, costmap_ros: Any) -> None:
         super().configure(costmap_ros)
         check_footprint_setting(costmap_ros, self.name, self.params.consider_footprint)
@@ -58,6 +71,9 @@ class CostCritic(CriticFunction):
             return
         p = self.params
         step = p.trajectory_point_step
+        if self.method == "kernel" and self._kernel_ready(data):
+            self._score_compiled(data)
+            return
         xs, ys = data.x[:, ::step], data.y[:, ::step]
         costs = cell_costs(data.costmap, xs, ys)
         # Nav2 skips free points before it looks at the footprint; it scores centre costs
@@ -78,3 +94,34 @@ class CostCritic(CriticFunction):
         data.fail_flag = bool(collide.all())  # Nav2 assigns: this critic's verdict
         scale = np.float32(1.0 / (254.0 * xs.shape[1]))
         self.add(data, raw * scale)
+
+    def _kernel_ready(self, data: CriticData) -> bool:
+        """The compiled pass scores centre costs of float32 rollouts laid out as the
+        optimizer lays them (the batch axis contiguous: numpy then adds the points
+        left to right, as the kernel does); a footprint check stays numpy's."""
+        return (
+            not (self.params.consider_footprint and self.costmap_ros is not None)
+            and data.x.dtype == np.float32
+            and data.y.dtype == np.float32
+            and data.x.ndim == 2
+            and data.x.shape == data.y.shape
+            and data.x.strides[0] == data.x.itemsize
+            and data.y.strides[0] == data.y.itemsize
+        )
+
+    def _score_compiled(self, data: CriticData) -> None:
+        """`score`'s numpy steps in one compiled pass (cost_critic_kernel.py)."""
+        p, cm = self.params, data.costmap
+        step = p.trajectory_point_step
+        points = -(-data.x.shape[1] // step)
+        origin = np.array([cm.origin_x, cm.origin_y], np.float32)
+        out = np.empty(data.x.shape[0], np.float32)
+        data.fail_flag = bool(
+            cost_critic_costs(
+                data.x.T, data.y.T, step, cm.costs, origin, np.float32(1.0 / cm.resolution),
+                tracking_unknown(cm), data.local_path_length() < p.near_goal_distance,
+                p.near_collision_cost, np.float32(p.critical_cost),
+                np.float32(p.collision_cost), np.float32(1.0 / (254.0 * points)), out,
+            )
+        )  # fmt: skip
+        self.add(data, out)

@@ -6,11 +6,11 @@ import numpy as np
 from pydantic import Field
 
 from ....core import fmath
+from ....core.kernel_switch import Method
 from ....plugins import register
 from ..angles import abs_angle_diff
-from ..critic_data import CriticData
+from ..critic_data import DEFAULT_METHOD, CriticData
 from ..critic_function import NAMESPACE, CriticFunction
-from ..kernel_switch import DEFAULT_METHOD, KernelMethod
 from ..path_align_kernel import arc_length_table, path_align_costs
 
 #: Arc-length lookup resolution: the path's length in this many bins.
@@ -57,7 +57,7 @@ class PathAlignCritic(CriticFunction):
 
     #: "kernel" (path_align_kernel.py) or "numpy" (the reference), the optimizer's
     #: DEFAULT_METHOD (BTNAV_MPPI=numpy); the same bits either way.
-    method: KernelMethod = DEFAULT_METHOD
+    method: Method = DEFAULT_METHOD
 
     def score(self, data: CriticData) -> None:
         p = self.params
