@@ -102,6 +102,61 @@ def time_cycles(controller, cycles: int) -> float:
     return float(np.median(times)) * 1e3
 
 
+def set_mppi_method(controller, method: str) -> None:
+    """MPPI's compiled kernels ("kernel") or the numpy reference ("numpy"), the same bits."""
+    from btnav.control.mppi.critic_data import CriticData
+
+    controller.optimizer.method = method
+    CriticData.method = method  # the furthest reached path point (class-wide)
+    for critic in controller.optimizer.critics:
+        if hasattr(critic, "method"):
+            critic.method = method
+
+
+def time_mppi_methods(cycles: int) -> dict[str, float]:
+    """Median cycle of each path, A B A B B A (the machine may be shared), best of 3."""
+    best = {"numpy": math.inf, "kernel": math.inf}
+    for method in ("numpy", "kernel", "numpy", "kernel", "kernel", "numpy"):
+        controller = build("nav2_mppi_controller::MPPIController", "FollowPath")
+        set_mppi_method(controller, method)
+        best[method] = min(best[method], time_cycles(controller, cycles))
+    set_mppi_method(controller, "kernel")
+    return best
+
+
+FIRST_CYCLE = """
+import time
+t0 = time.perf_counter()
+import sys
+sys.path.insert(0, {bench!r})
+import controllers as c
+c.plugins.load_entry_points()
+ctl = c.build("nav2_mppi_controller::MPPIController", "FollowPath")
+path, cm, robot, vel = c.scene()
+ctl.set_plan(path)
+ctl.compute_velocity_commands(robot, vel, cm)
+print(time.perf_counter() - t0)
+"""
+
+
+def compile_cost() -> tuple[float, float]:
+    """Seconds from a fresh interpreter to MPPI's first cycle done: with an empty numba
+    cache (every kernel compiled: the first run after an install) and then cached."""
+    import subprocess
+    import sys
+    import tempfile
+
+    code = FIRST_CYCLE.format(bench=str(Path(__file__).parent))
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        runs = [
+            float(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                                 text=True, check=True).stdout.split()[-1])
+            for _ in range(2)
+        ]  # fmt: skip
+    return runs[0], runs[1]
+
+
 def mppi_stage_profile(controller, cycles: int) -> dict[str, float]:
     """Wall time per stage of MPPI's cycle, by wrapping the optimizer's steps and critics."""
     opt = controller.optimizer
@@ -121,6 +176,7 @@ def mppi_stage_profile(controller, cycles: int) -> dict[str, float]:
     opt.model.predict = timed("motion model (acceleration loop)", opt.model.predict)
     opt._rollouts = timed("rollout integration", opt._rollouts)
     opt._rollouts_compiled = timed("motion model + rollouts (compiled)", opt._rollouts_compiled)
+    opt.noise.sample_controls = timed("noise sampling (compiled add)", opt.noise.sample_controls)
     opt._update_control_sequence = timed("softmax + control update", opt._update_control_sequence)
     opt._trajectory_valid = timed("optimal trajectory validator", opt._trajectory_valid)
     for critic in opt.critics:
@@ -140,6 +196,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cycles", type=int, default=200)
     ap.add_argument("--no-profile", action="store_true")
+    ap.add_argument(
+        "--compile-cost",
+        action="store_true",
+        help="also time MPPI's first cycle in a fresh interpreter, numba cache empty then warm",
+    )
     args = ap.parse_args()
     plugins.load_entry_points()
     print(f"control period at 20 Hz: {PERIOD_MS:.0f} ms; numpy single-threaded\n")
@@ -176,7 +237,15 @@ def main() -> None:
             p = controller.params
             assert (p.batch_size, p.time_steps) == (2000, 56), (p.batch_size, p.time_steps)
             mppi = controller
-        ms = time_cycles(controller, args.cycles)
+        if name.startswith("nav2_mppi"):
+            both = time_mppi_methods(args.cycles)
+            ms = both["kernel"]
+            print(
+                f"{'  numpy reference':24s} {both['numpy']:8.2f} ms/cycle  compiled "
+                f"{ms:.2f} ms: {both['numpy'] / ms:.2f}x faster (best of 3, interleaved)"
+            )
+        else:
+            ms = time_cycles(controller, args.cycles)
         ratio = ms / target_ms
         line = f"{label:24s} {ms:8.2f} ms/cycle  {ms / PERIOD_MS:6.1%} of the 20 Hz period"
         line += f"  target {target_ms:4.0f} ms  ratio {ratio:5.2f}"
@@ -189,6 +258,10 @@ def main() -> None:
             print(f"  {label:40s} {ms:6.2f} ms  {ms / total:6.1%}")
         top = max(stages, key=stages.get)  # type: ignore[arg-type]
         print(f"dominant: {top}")
+    if args.compile_cost:
+        cold, warm = compile_cost()
+        print(f"\nMPPI first cycle in a fresh interpreter: {cold:.1f} s with an empty numba")
+        print(f"cache (every kernel compiled), {warm:.1f} s cached")
 
 
 if __name__ == "__main__":
