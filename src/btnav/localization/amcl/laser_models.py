@@ -35,8 +35,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...core import fmath
+from ...core.kernel_switch import Method, default_method
 from ...core.messages import LaserScan
+from .beam_ends_kernel import beam_end_cells
 from .likelihood_field import CellTable, MapField, gaussian_pz
+
+#: How the likelihood-field models find their beam ends: beam_ends_kernel's compiled
+#: loop, or numpy's passes (BTNAV_AMCL=numpy); the same indices either way.
+DEFAULT_METHOD: Method = default_method("BTNAV_AMCL")
 
 F64 = NDArray[np.float64]
 
@@ -78,11 +84,13 @@ def _endpoint_cells(
     ranges: F64,
     bearings: F64,
     sincos: tuple[F64, F64] | None,
+    method: Method,
 ) -> NDArray[np.intp]:
     """(N, B) flat indices into `table` of the beams' ends for every particle.
 
     The beam ends are rotated by each particle's yaw with the angle-sum identity (one
-    sincos per particle and one per beam, never per particle x beam)."""
+    sincos per particle and one per beam, never per particle x beam); `method` "kernel"
+    is beam_ends_kernel's loop, "numpy" the passes below (the same indices)."""
     cp = field.to_cells(poses)
     sb, cb = fmath.sincos(bearings)
     inv = 1.0 / field.resolution
@@ -90,9 +98,16 @@ def _endpoint_cells(
     ey = (data.laser_xy[1] + ranges * sb) * inv
     if sincos is None or field.origin.yaw != 0.0:
         sincos = fmath.sincos(cp[:, 2])
-    s, c = sincos[0][:, None], sincos[1][:, None]
     clip = not table.inside(cp)
     cp[:, :2] += table.pad
+    if method == "kernel":
+        out = np.empty((len(cp), len(ex)), np.intp)
+        rows = len(table.data) // table.stride
+        px, py, s, c = (np.ascontiguousarray(v) for v in (cp[:, 0], cp[:, 1], *sincos))
+        clip = clip or table.always_clip
+        beam_end_cells(px, py, s, c, ex, ey, table.stride, rows, clip, out)
+        return out
+    s, c = sincos[0][:, None], sincos[1][:, None]
     gx = c * ex
     tmp = s * ey
     gx -= tmp
@@ -139,6 +154,8 @@ class LaserModel:
         self._tables: dict[tuple[int, float, float], tuple[CellTable, ...]] = {}
         #: Beams the last update skipped by beam skipping (likelihood_field_prob), for tests.
         self.skipped_beams = 0
+        #: The beam ends' path: "kernel" (compiled) or "numpy" (the same bits).
+        self.method: Method = DEFAULT_METHOD
 
     def beam_indices(self, count: int) -> NDArray[np.intp]:
         """Which readings the model reads: every step-th from the first."""
@@ -146,7 +163,10 @@ class LaserModel:
         return np.arange(0, count, step)
 
     def _table(self, field: MapField, data: LaserData) -> tuple[CellTable, ...]:
-        key = (id(field), data.range_max, _reach(data))
+        # the laser's offset comes through the frame tree a few ulps off from scan to
+        # scan: the reach is rounded so those scans share a table (its padding has two
+        # cells to spare, and the values gathered do not depend on it)
+        key = (id(field), data.range_max, round(_reach(data), 6))
         if key not in self._tables:
             self._tables = {key: self.make_tables(field, data)}  # one map at a time
         return self._tables[key]
@@ -190,7 +210,9 @@ class LikelihoodFieldModel(LaserModel):
         ok = r < data.range_max  # also drops NaN
         if not ok.any():
             return np.ones(len(poses))
-        cells = _endpoint_cells(pz3, field, poses, data, r[ok], data.bearings[idx][ok], sincos)
+        cells = _endpoint_cells(
+            pz3, field, poses, data, r[ok], data.bearings[idx][ok], sincos, self.method
+        )
         p = pz3.data.take(cells).sum(axis=1)
         p += 1.0
         return p
@@ -226,7 +248,9 @@ class LikelihoodFieldModelProb(LaserModel):
         self.skipped_beams = 0
         if not ok.any():
             return np.ones(len(poses))
-        cells = _endpoint_cells(log_pz, field, poses, data, r[ok], data.bearings[idx][ok], sincos)
+        cells = _endpoint_cells(
+            log_pz, field, poses, data, r[ok], data.bearings[idx][ok], sincos, self.method
+        )
         logs = log_pz.data.take(cells)
         if self.do_beamskip and converged:
             agree = near.data.take(cells).sum(axis=0) / len(poses) > self.beam_skip_threshold
