@@ -4,9 +4,10 @@
 `start`: at `rate` Hz of sim time it keeps a `Snapshot` of only what a frame draws,
 as small copies (the robot's ground-truth pose, the scan's end points, the global
 and local plans, a thinned particle cloud, the moving obstacles, the running BT
-actions, and the shapes plugins draw of themselves: `core.drawing`). Nothing large is kept per frame: the static map is drawn once, and a
-growing SLAM map is copied only when SLAM publishes a new one (frames share it).
-The global plan is shared the same way until a replan.
+actions, and the shapes plugins draw of themselves: `core.drawing`). Nothing large
+is kept per frame: the static map is drawn once, and a growing SLAM map is copied
+only when SLAM publishes a new one (frames share it). The global plan is shared the
+same way until a replan.
 
 A long run is thinned evenly: when more than `max_frames - 1` snapshots are held,
 every other one is dropped and the recorder keeps one tick in twice as many from then
