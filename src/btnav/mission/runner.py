@@ -115,11 +115,14 @@ def run_mission(
     mission: Mission,
     out_dir: str | Path | None = None,
     progress: Callable[[BasicNavigator], None] | None = None,
+    attach: Callable[[BasicNavigator], None] | None = None,
 ) -> RunReport:
     """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
 
     `progress(nav)` is called at every poll of the wait (before each physics step) for
     a live status; it must only read, so the run is the same with or without it.
+    `attach(nav)` is called once the bring-up is built, before the task is sent (the
+    live view adds its component there).
     """
     outputs = list(mission.spec.outputs) if out_dir is not None else []
     out = Path(out_dir) if out_dir is not None else None
@@ -170,6 +173,8 @@ def run_mission(
 
         if out is not None:
             start_outputs(plugins, nav, out)
+        if attach is not None:
+            attach(nav)
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):

@@ -128,9 +128,20 @@ class RunRecorder:
 
     def snapshot(self, now: float, result: str | None = None) -> Snapshot:
         """Keep what a frame at `now` draws (and thin when over the cap)."""
+        snap = self.snapshot_now(now, result)
+        if result is not None:
+            return snap
+        self.snapshots.append(snap)
+        if len(self.snapshots) > self.max_frames - 1:  # room for the closing frame
+            self.stride *= 2
+            self.snapshots = [s for s in self.snapshots if s.tick % self.stride == 0]
+        return snap
+
+    def snapshot_now(self, now: float, result: str | None = None) -> Snapshot:
+        """What a frame at `now` draws, not kept (the live view's frames)."""
         nav, rt = self.nav, self.nav.runtime
         gt = rt.world.robot_pose
-        snap = Snapshot(
+        return Snapshot(
             tick=self.ticks,
             time=now,
             robot=(gt.x, gt.y, gt.yaw),
@@ -145,13 +156,6 @@ class RunRecorder:
             result=result,
             drawings=plugin_drawables(nav, self.drawing_plugins, self.global_frame),
         )
-        if result is not None:
-            return snap
-        self.snapshots.append(snap)
-        if len(self.snapshots) > self.max_frames - 1:  # room for the closing frame
-            self.stride *= 2
-            self.snapshots = [s for s in self.snapshots if s.tick % self.stride == 0]
-        return snap
 
     def close(self, result: str) -> list[Snapshot]:
         """The frames: the snapshots, then the end of the run with its result."""
