@@ -45,7 +45,9 @@ class _Client:
 class Hub:
     """Serves the page and its WebSocket from a daemon thread (see the module doc)."""
 
-    def __init__(self, on_command: Callable[[dict[str, Any]], None], host: str = "127.0.0.1") -> None:
+    def __init__(
+        self, on_command: Callable[[dict[str, Any]], None], host: str = "127.0.0.1"
+    ) -> None:
         self.web = _aiohttp()
         self.on_command = on_command
         self.host = host
@@ -99,6 +101,7 @@ class Hub:
         app.router.add_get("/", self._file)
         app.router.add_get("/ws", self._socket)
         app.router.add_get("/static/{name}", self._file)
+        app.router.add_get("/favicon.ico", self._no_content)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
         site = web.TCPSite(self._runner, self.host, 0)
@@ -110,6 +113,9 @@ class Hub:
             await client.ws.close()
         if self._runner is not None:
             await self._runner.cleanup()
+
+    async def _no_content(self, request: Any) -> Any:
+        return self.web.Response(status=204)
 
     async def _file(self, request: Any) -> Any:
         name = request.match_info.get("name", "index.html")

@@ -62,7 +62,7 @@ class LiveView:
     def attach(self, nav: Any, mission: Any) -> None:
         """Watch `nav` (called by `run_mission` before the task is sent)."""
         self.nav = nav
-        self.state = StateMessages(nav, mission.name, list(mission.spec.task.poses))
+        self.state = StateMessages(nav, mission.name)
         nav.runtime.add(self, stage=Stage.MONITOR, rate=RATE)
 
     def update(self, now: float) -> None:

@@ -4,7 +4,7 @@ One `static` message (the world's bounds and walls, the footprint, the task's po
 a `map` when the map changes (the static map once; SLAM's map as it grows), a
 `costmap` (global or local, asked for by the page, only when its cells changed), a
 `tree` when another tree runs, and a `frame` per update: sim time, the robot's
-ground-truth pose, the scan, the plans, the particles, plugins' drawables, each tree
+ground-truth pose, the task's poses, the scan, the plans, the particles, plugins' drawables, each tree
 node's status as a letter (I, R, S, F: Groot's idle, running, success, failure).
 Grids go as base64 bytes (row 0 at the origin); points as flat lists rounded to mm.
 Building them only reads the navigator, so a run is the same with or without a view.
@@ -27,7 +27,9 @@ def flat(points: Any) -> list[float]:
     return np.round(np.asarray(points, dtype=np.float64), 3).ravel().tolist()
 
 
-def grid_message(kind: str, data: np.ndarray, resolution: float, origin: tuple[float, float], **more: Any) -> dict[str, Any]:
+def grid_message(
+    kind: str, data: np.ndarray, resolution: float, origin: tuple[float, float], **more: Any
+) -> dict[str, Any]:
     h, w = data.shape
     return {
         "type": kind,
@@ -43,10 +45,10 @@ def grid_message(kind: str, data: np.ndarray, resolution: float, origin: tuple[f
 class StateMessages:
     """Builds the messages of one navigator's run (see the module doc)."""
 
-    def __init__(self, nav: Any, mission_name: str, poses: list[Any]) -> None:
+    def __init__(self, nav: Any, mission_name: str) -> None:
         self.nav = nav
         self.mission_name = mission_name
-        self.poses = [list(map(float, p)) for p in poses]
+        self._goals_of: tuple[Any, list[list[float]]] = (None, [])
         # the GIF's snapshotter, kept for what a frame shows (its frames are not kept here)
         self.taker = RunRecorder(nav, rate=1.0, max_frames=2)
         self.global_frame = self.taker.global_frame
@@ -66,7 +68,6 @@ class StateMessages:
             "mission": self.mission_name,
             "bounds": [float(x0), float(y0), float(x1), float(y1)],
             "footprint": flat(self.taker_outline()),
-            "goals": self.poses,
             "polygons": [flat(p) for p in static.polygons],
             "circles": [flat(c) for c in static.circles],
             "particles": self.taker._particles() is not None,
@@ -97,7 +98,9 @@ class StateMessages:
 
     def costmap(self, which: str) -> dict[str, Any] | None:
         """The `which` ("global", "local") costmap, when its cells changed since sent."""
-        server = self.nav.stack.global_costmap if which == "global" else self.nav.stack.local_costmap
+        server = (
+            self.nav.stack.global_costmap if which == "global" else self.nav.stack.local_costmap
+        )
         if server is None:
             return None
         costmap = server.costmap
@@ -113,7 +116,12 @@ class StateMessages:
             return None
         self._costmap_sent[which] = key
         return grid_message(
-            "costmap", costs, costmap.resolution, origin, which=which, pose=[pose.x, pose.y, pose.yaw]
+            "costmap",
+            costs,
+            costmap.resolution,
+            origin,
+            which=which,
+            pose=[pose.x, pose.y, pose.yaw],
         )
 
     def tree(self) -> dict[str, Any] | None:
@@ -134,9 +142,24 @@ class StateMessages:
     def _running_root(self) -> Any:
         navigators = list(self.nav.bt_navigator.navigators.values())
         for navigator in navigators:
-            if navigator.current is not None and navigator.current.active and navigator.root is not None:
+            if (
+                navigator.current is not None
+                and navigator.current.active
+                and navigator.root is not None
+            ):
                 return navigator.root
         return self._root_sent
+
+    def _goals(self) -> list[list[float]]:
+        """The poses of the task running now (the mission's, or a goal clicked in the page)."""
+        handle = self.nav.handle
+        if handle is not self._goals_of[0]:
+            goal = None if handle is None else handle.goal
+            poses = getattr(goal, "poses", None)
+            if poses is None:
+                poses = [goal.pose] if hasattr(goal, "pose") else []
+            self._goals_of = (handle, [_xyyaw(p) for p in poses])
+        return self._goals_of[1]
 
     def frame(self, now: float, **more: Any) -> dict[str, Any]:
         snap: Snapshot = self.taker.snapshot_now(now)
@@ -156,5 +179,13 @@ class StateMessages:
             "bt": "".join(STATUS_NAMES[n.status][0] for n in self._nodes),
             "actions": list(snap.actions),
             "waypoint": snap.waypoint,
+            "goals": self._goals(),
             **more,
         }
+
+
+def _xyyaw(pose: Any) -> list[float]:
+    pose = getattr(pose, "pose", pose)  # a PoseStamped
+    if hasattr(pose, "x"):
+        return [round(float(pose.x), 3), round(float(pose.y), 3), round(float(pose.yaw), 3)]
+    return [round(float(v), 3) for v in list(pose)[:3]]

@@ -86,7 +86,9 @@ function receive(msg) {
       row.id = `node-${i}`;
       row.className = "st-I";
       row.style.marginLeft = `${depth * 12}px`;
-      row.innerHTML = type === name ? `${type}` : `${name} <small>${type}</small>`;
+      const short = name.split(".").pop();
+      row.textContent = short;
+      if (type !== short) { const t = document.createElement("small"); t.textContent = ` ${type}`; row.appendChild(t); }
       box.appendChild(row);
     });
   } else if (msg.type === "replay") {
@@ -203,8 +205,8 @@ function draw() {
   if (S.mapImage) grid(S.map, S.mapImage, [0, 0, 0]);
   const which = $("costmap").value;
   if (S.costmapImages[which]) grid(S.costmaps[which], S.costmapImages[which], S.costmaps[which].pose);
-  st.goals.forEach(([gx, gy]) => star(gx, gy, "#2ca02c"));
   if (!f) return;
+  f.goals.forEach(([gx, gy]) => star(gx, gy, "#2ca02c"));
   ctx.fillStyle = "#ff7f0e";
   f.movers.forEach((m) => { path(m, true); ctx.fill(); });
   line(f.plan, "#2ca02c", 2, [8, 4]);
