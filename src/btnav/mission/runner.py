@@ -138,6 +138,8 @@ def run_mission(
     plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator
+    bring_up = [*nav.runtime.components, *bt.tick_listeners]
+    log: BtLog | None = None
     with ExitStack() as files:
 
         def sink(name: str) -> Any:
@@ -174,7 +176,11 @@ def run_mission(
         if out is not None:
             start_outputs(plugins, nav, out)
         if attach is not None:
+            seen = {id(c) for c in (*nav.runtime.components, *bt.tick_listeners)}
             attach(nav)
+            bring_up += [
+                c for c in (*nav.runtime.components, *bt.tick_listeners) if id(c) not in seen
+            ]
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):
@@ -200,7 +206,21 @@ def run_mission(
             plugin.write(RunOutput(out, mission, nav, report, recorder.track))
         if "report" in outputs:
             report.write(out / output_files("report")[0])
+    _end_recording(nav, bring_up, log)
     return report
+
+
+def _end_recording(nav: BasicNavigator, keep: list[Any], log: BtLog | None) -> None:
+    """Take the run's recorders off the runtime (their files are closed): a live view may
+    keep the sim going after the run, for the user's own goals."""
+    kept = {id(k) for k in keep}
+    for component in nav.runtime.components:
+        if id(component) not in kept:
+            nav.runtime.remove(component)
+    listeners = nav.bt_navigator.tick_listeners
+    listeners[:] = [c for c in listeners if id(c) in kept]
+    if log is not None:
+        log.close()
 
 
 def build_report(

@@ -14,6 +14,7 @@ user can send more goals, until Ctrl-C.
 from __future__ import annotations
 
 import queue
+import threading
 import time
 from typing import Any
 
@@ -50,6 +51,7 @@ class LiveView:
         self._grid_at = -1e9
         self._rtf: tuple[float, float, float] = (0.0, 0.0, 0.0)  # (sim, wall, factor)
         self._clock = time.monotonic
+        self._closed = threading.Event()
 
     @property
     def url(self) -> str:
@@ -67,24 +69,29 @@ class LiveView:
 
     def update(self, now: float) -> None:
         self._apply_commands(now)
-        while self.paused and not self.steps:
+        while self.paused and not self.steps and not self._closed.is_set():
             self._publish(now, force=True)
             self._wait_for_command(now)
         if self.steps:
             self.steps -= 1
         self.pacer.wait(now)
         self._publish(now)
+        if self._closed.is_set():
+            self.pacer.speed = 0  # a closed view holds nothing back
 
     def idle(self) -> None:
-        """Keep the sim going (paced; at most 1x with no task) for more goals, until Ctrl-C."""
+        """Keep the sim going (paced; at most 1x with no task) for more goals, until Ctrl-C
+        (or `close`)."""
         rt = self.nav.runtime
-        while True:
+        while not self._closed.is_set():
             busy = self.nav.handle is not None and not self.nav.handle.done
             if self.pacer.speed == 0 and not busy:
                 time.sleep(1.0 / RATE)
             rt.spin_for(1.0 / RATE)
 
     def close(self) -> None:
+        """Stop serving; a paused or idling sim thread returns."""
+        self._closed.set()
         self.hub.stop()
 
     # -- the page's commands, applied in the sim thread ----------------------------------

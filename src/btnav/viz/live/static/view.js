@@ -135,6 +135,7 @@ function fit() {
 }
 const px = (x, y) => [(x - view.x0) * view.scale, view.height - (y - view.y0) * view.scale];
 const world = (u, v) => [u / view.scale + view.x0, (view.height - v) / view.scale + view.y0];
+S.toCanvas = px; // world -> canvas pixels, for tests
 
 function path(flat, close) {
   ctx.beginPath();
