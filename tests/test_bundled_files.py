@@ -51,6 +51,9 @@ def test_an_installed_btnav_carries_the_bundled_folders(tmp_path):
                 if file.is_file() and "__pycache__" not in file.parts:
                     inside = f"btnav/data/{kind}/{file.relative_to(REPO / kind).as_posix()}"
                     assert packed.read(inside) == file.read_bytes()
+        page = REPO / "src" / "btnav" / "viz" / "live" / "static"  # the live view's page
+        for file in page.iterdir():
+            assert packed.read(f"btnav/viz/live/static/{file.name}") == file.read_bytes()
 
 
 def test_a_bundled_mission_is_found_by_its_bare_name(tmp_path, monkeypatch):

@@ -14,7 +14,6 @@ from PIL import Image, ImageSequence
 from btnav.cli import main
 from btnav.core.errors import BtnavError
 from btnav.mission import Mission, run_mission
-from btnav.plugins import register, unregister
 from btnav.viz.run_gif import PARTICLE_COLOR, RunGif
 
 from ..mission.missions import REPO, write_mission
@@ -58,21 +57,6 @@ def gif_frames(path: Path) -> tuple[list[np.ndarray], list[int], tuple[int, int]
 def color_pixels(frame: np.ndarray, color: str) -> int:
     rgb = np.array([int(color[i : i + 2], 16) for i in (1, 3, 5)])
     return int((np.abs(frame.astype(int) - rgb).sum(axis=2) < 30).sum())
-
-
-@pytest.fixture
-def gif_probe():
-    """The `gif` output under another name, keeping each instance (its recorder) to look at."""
-    made: list[RunGif] = []
-
-    @register("output", "gif_probe")
-    class Probe(RunGif):
-        def __init__(self) -> None:
-            super().__init__()
-            made.append(self)
-
-    yield made
-    unregister("output", "gif_probe")
 
 
 def test_the_gif_shows_the_run_and_changes_nothing_in_it(tmp_path):

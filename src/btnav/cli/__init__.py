@@ -151,7 +151,16 @@ def _run(args: argparse.Namespace) -> int:
             overrides=overrides,
             origins=origins,
             gif=args.gif,
+            view=args.view or args.open,
+            open_browser=args.open,
+            speed=args.speed,
         )
+
+
+def _view(args: argparse.Namespace) -> int:
+    from .view import view_main
+
+    return view_main(args.run_dir, open_browser=args.open)
 
 
 def _batch(args: argparse.Namespace) -> int:
@@ -218,8 +227,28 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--gif", action="store_true", help="also write run.gif, the run animated (viz extra)"
     )
+    run.add_argument(
+        "--view",
+        action="store_true",
+        help="watch and steer the run in a browser page on 127.0.0.1 (view extra); "
+        "it keeps serving after the run, until Ctrl-C",
+    )
+    run.add_argument("--open", action="store_true", help="with --view: open the default browser")
+    run.add_argument(
+        "--speed",
+        type=float,
+        default=1.0,
+        help="with --view: sim time per wall second (default 1; 0: as fast as it goes)",
+    )
     run.add_argument("--package", action="append", metavar="NAME=DIR", help=package_help)
     run.set_defaults(func=_run)
+
+    view = sub.add_parser(
+        "view", help="replay a run's recording (outputs: [recording]) in a browser page"
+    )
+    view.add_argument("run_dir", help="the run's folder (holding recording.jsonl.gz)")
+    view.add_argument("--open", action="store_true", help="open the default browser")
+    view.set_defaults(func=_view)
 
     batch = sub.add_parser(
         "batch",

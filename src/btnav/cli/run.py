@@ -1,7 +1,8 @@
 """`btnav run MISSION [--out DIR] [--seed N] [--set KEY=VALUE ...] [--gif]`: the run, one line
 of result, then one line per missed waypoint (its pose, Nav2's error code and message, the
 tree node that failed last, the sim time). `--gif` adds the `gif` output (`run.gif`, the
-viz extra) to the mission's outputs.
+viz extra) to the mission's outputs. `--view` serves the live view (the view extra) on
+127.0.0.1, paced to `--speed` times the wall clock, and keeps it serving after the run.
 
 On a terminal a live status line (sim time, real-time factor, the running action,
 the waypoint) is redrawn while the run goes and erased before the result; elsewhere
@@ -14,6 +15,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..core.errors import BtnavError
 from ..mission.mission import Mission
 from ..mission.runner import run_mission
 from ..mission.stages import is_staged, run_stages, staged_mission_name
@@ -32,18 +34,28 @@ def run_main(
     overrides: dict[str, Any] | None = None,
     origins: dict[str, str] | None = None,
     gif: bool = False,
+    view: bool = False,
+    open_browser: bool = False,
+    speed: float = 1.0,
 ) -> int:
     """Exit 0 when the task succeeded, 1 when it failed, hit its time limit or missed
-    waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it."""
+    waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it.
+    With `view` the run is shown live (and kept serving after its end, until Ctrl-C)."""
     if is_staged(path):
+        if view:
+            raise BtnavError(f"{path}: --view shows one mission; a mission in stages is not one")
         return _run_stages(path, out, seed, overrides, origins, gif)
     mission = Mission.load(path, seed=seed, overrides=overrides, origins=origins)
     if gif and "gif" not in mission.spec.outputs:
         mission.spec.outputs = [*mission.spec.outputs, "gif"]
     out_dir = Path(out) if out is not None else default_out_dir(mission)
+    live = _live_view(mission, speed, open_browser) if view else None
     status = StatusLine(sys.stdout, task=mission.task, goals=len(mission.spec.task.poses))
     try:
-        report = run_mission(mission, out_dir, progress=status if status.enabled else None)
+        attach = None if live is None else lambda nav: live.attach(nav, mission)
+        report = run_mission(
+            mission, out_dir, progress=status if status.enabled else None, attach=attach
+        )
     finally:
         status.close()
     print(report.summary())
@@ -51,7 +63,39 @@ def run_main(
         print(f"  {line}")
     if report.outputs:
         print(f"outputs in {out_dir}/: {', '.join(report.outputs)}")
+    if live is not None:
+        _keep_serving(live, report.status)
     return report.exit_code
+
+
+def _live_view(mission: Mission, speed: float, open_browser: bool) -> Any:
+    from ..viz.live.live_view import LiveView
+
+    if speed < 0:
+        raise BtnavError(f"--speed must be >= 0 (0: as fast as it goes), not {speed:g}")
+    live = LiveView(speed).start()
+    print(f"live view at {live.url} (speed {speed:g}x; Ctrl-C to stop)", flush=True)
+    if open_browser:
+        import webbrowser
+
+        webbrowser.open(live.url)
+    return live
+
+
+def _keep_serving(live: Any, result: str) -> None:
+    """After the run: the sim idles and the page stays up for more goals, until Ctrl-C."""
+    live.result = result
+    print(
+        f"the run has ended; {live.url} keeps serving: "
+        "drag a 2D Goal Pose to drive on, Ctrl-C to stop",
+        flush=True,
+    )
+    try:
+        live.idle()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        live.close()
 
 
 def _run_stages(

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from ..core.geometry import Pose2D
 from ..core.messages import Path, Twist
 from ..costmap.costmap_2d import Costmap2D
@@ -41,3 +43,9 @@ class Controller(Plugin):
 
     def reset(self) -> None:
         """Forget the state of the last path (a new goal is coming)."""
+
+    def local_plan(self, pose: Pose2D) -> np.ndarray | None:
+        """(N, 3) x, y, yaw in the costmap frame: what the controller means to drive next
+        (Nav2's `local_plan` topic), for the live view, `run.gif` and the bag. None: no
+        plan of its own, so the viewers draw the plan the controller server cut."""
+        return None

@@ -193,6 +193,17 @@ class RegulatedPurePursuitController(Controller):
     def reset(self) -> None:
         self.is_rotating_to_heading = False
 
+    def local_plan(self, pose: Pose2D) -> np.ndarray | None:
+        """The pruned plan up to the lookahead point (the carrot, Nav2's
+        `lookahead_point`), in the costmap frame."""
+        plan = self._plan
+        if not len(plan):
+            return None
+        carrot = pose.transform_points(np.asarray(self.carrot, dtype=float).reshape(1, 2))[0]
+        nearest = int(np.argmin((plan[:, 0] - carrot[0]) ** 2 + (plan[:, 1] - carrot[1]) ** 2))
+        end = np.array([[carrot[0], carrot[1], plan[nearest, 2]]])
+        return np.vstack([plan[: nearest + 1], end])
+
     def _local_plan(self, pose: Pose2D, costmap: Costmap2D) -> NDArray[np.float64]:
         """Prune the plan behind the robot; the part within the costmap, in the robot frame."""
         plan = self._plan

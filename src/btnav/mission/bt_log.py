@@ -33,7 +33,7 @@ class BtLog:
     def __init__(
         self, sink: TextIO, now: Callable[[], float], *, idle_transitions: bool = True
     ) -> None:
-        self.sink = sink
+        self.sink: TextIO | None = sink
         self.now = now
         self.idle_transitions = idle_transitions
         self.changes = 0
@@ -72,8 +72,14 @@ class BtLog:
         if uid is not None:
             self._write(uid, node, self._last[uid], new, self.now())
 
+    def close(self) -> None:
+        """Write no more (the run's file is closed; a live view may drive the tree on)."""
+        self.sink = None
+
     def _write(self, uid: int, node: Any, before: Status, status: Status, now: float) -> None:
         self._last[uid] = status
+        if self.sink is None:
+            return
         if status is Status.INVALID and not self.idle_transitions:
             return
         self.changes += 1

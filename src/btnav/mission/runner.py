@@ -115,11 +115,14 @@ def run_mission(
     mission: Mission,
     out_dir: str | Path | None = None,
     progress: Callable[[BasicNavigator], None] | None = None,
+    attach: Callable[[BasicNavigator], None] | None = None,
 ) -> RunReport:
     """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
 
     `progress(nav)` is called at every poll of the wait (before each physics step) for
     a live status; it must only read, so the run is the same with or without it.
+    `attach(nav)` is called once the bring-up is built, before the task is sent (the
+    live view adds its component there).
     """
     outputs = list(mission.spec.outputs) if out_dir is not None else []
     out = Path(out_dir) if out_dir is not None else None
@@ -135,6 +138,8 @@ def run_mission(
     plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator
+    bring_up = [*nav.runtime.components, *bt.tick_listeners]
+    log: BtLog | None = None
     with ExitStack() as files:
 
         def sink(name: str) -> Any:
@@ -170,6 +175,12 @@ def run_mission(
 
         if out is not None:
             start_outputs(plugins, nav, out)
+        if attach is not None:
+            seen = {id(c) for c in (*nav.runtime.components, *bt.tick_listeners)}
+            attach(nav)
+            bring_up += [
+                c for c in (*nav.runtime.components, *bt.tick_listeners) if id(c) not in seen
+            ]
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):
@@ -195,7 +206,21 @@ def run_mission(
             plugin.write(RunOutput(out, mission, nav, report, recorder.track))
         if "report" in outputs:
             report.write(out / output_files("report")[0])
+    _end_recording(nav, bring_up, log)
     return report
+
+
+def _end_recording(nav: BasicNavigator, keep: list[Any], log: BtLog | None) -> None:
+    """Take the run's recorders off the runtime (their files are closed): a live view may
+    keep the sim going after the run, for the user's own goals."""
+    kept = {id(k) for k in keep}
+    for component in nav.runtime.components:
+        if id(component) not in kept:
+            nav.runtime.remove(component)
+    listeners = nav.bt_navigator.tick_listeners
+    listeners[:] = [c for c in listeners if id(c) in kept]
+    if log is not None:
+        log.close()
 
 
 def build_report(

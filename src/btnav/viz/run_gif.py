@@ -4,7 +4,8 @@
 the map (or, with no map, the world's walls and obstacles), the robot's footprint
 where it truly is, the latest scan, the global plan, the local plan (MPPI's optimal
 trajectory, DWB's best trajectory, Regulated Pure Pursuit's path to its lookahead
-point), AMCL's particle cloud or SLAM's map as it grows, the ground-truth path so far
+point, or what a controller's `local_plan` gives), the shapes plugins draw of
+themselves (`core.drawing`), AMCL's particle cloud or SLAM's map as it grows, the ground-truth path so far
 and, in the top-left corner, the sim time, the running BT action and the waypoint.
 The last frame holds the run's result.
 
@@ -30,6 +31,7 @@ from ..core.errors import BtnavError
 from ..mission.outputs import RunOutput
 from ..mission.run_status import format_status
 from ..plugins import register
+from .plugin_drawings import DrawableArtists, legend_handles
 from .run_plot import GOAL_COLOR, PATH_COLOR, PLAN_COLOR
 from .run_recorder import RunRecorder, Snapshot
 from .world_plot import MOVING_COLOR, ROBOT_COLOR, SCAN_COLOR, STATIC_COLOR, _matplotlib
@@ -89,7 +91,9 @@ class RunGif:
             raise BtnavError("the gif output was not started with the run")
         frames = self.recorder.close(run.report.status)
         durations = [self.frame_ms] * (len(frames) - 1) + [self.end_ms]
-        scene = GifScene(run, self.recorder.slam, self.size_px)
+        scene = GifScene(
+            run, self.recorder.slam, self.size_px, [d for f in frames for d in f.drawings]
+        )
         with open(run.out_dir / self.files[0], "wb") as fp:
             write_gif(fp, scene.render(frames), durations, scene.palette(frames))
 
@@ -97,7 +101,9 @@ class RunGif:
 class GifScene:
     """The figure of a run's frames: a static background, and the artists each frame moves."""
 
-    def __init__(self, run: RunOutput, slam: bool, size_px: int) -> None:
+    def __init__(
+        self, run: RunOutput, slam: bool, size_px: int, drawn: list[Any] | None = None
+    ) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
@@ -121,8 +127,9 @@ class GifScene:
         _draw_background(ax, world, None if slam else grid, faint=slam)
         for x, y, _yaw in run.mission.spec.task.poses:
             ax.plot(x, y, marker="*", color=GOAL_COLOR, markersize=10, zorder=8)
-        self.artists = _moving_artists(ax, world, slam, nav.runtime.localizer)
-        self._legend(slam)
+        self.drawables = DrawableArtists(ax)
+        self.artists = _moving_artists(ax, world, slam, nav.runtime.localizer, self.drawables)
+        self._legend(slam, legend_handles(drawn or []))
         ax.set_xlim(*self.xlim)  # the images and markers above moved them
         ax.set_ylim(*self.ylim)
         ax.set_aspect("equal", adjustable="datalim")
@@ -131,7 +138,7 @@ class GifScene:
         self.corner = CornerText()
         self._map_shown: tuple[Any, np.ndarray | None] = (None, None)
 
-    def _legend(self, slam: bool) -> None:
+    def _legend(self, slam: bool, drawn: list[Any]) -> None:
         from matplotlib.lines import Line2D
         from matplotlib.patches import Patch
 
@@ -152,6 +159,7 @@ class GifScene:
         if slam:
             handles.append(Patch(facecolor="#333333", label=SLAM_MAP_LABEL))
         handles.append(Line2D([], [], color=GOAL_COLOR, marker="*", linestyle="none", label="goal"))
+        handles += drawn
         self.fig.legend(
             handles=handles,
             loc="lower center",
@@ -202,6 +210,7 @@ class GifScene:
                 a["slam_map"].set_data(self._map_shown[1])
                 a["slam_map"].set_extent(shown.extent)
         a["movers"].set_verts(snap.movers)
+        self.drawables.show(snap.drawings)
         self.canvas.restore_region(self.background)
         for artist in a["draw_order"]:
             ax.draw_artist(artist)
@@ -282,7 +291,9 @@ def _draw_background(ax: Axes, world: Any, grid: Any, *, faint: bool) -> None:
     )
 
 
-def _moving_artists(ax: Axes, world: Any, slam: bool, localizer: Any) -> dict[str, Any]:
+def _moving_artists(
+    ax: Axes, world: Any, slam: bool, localizer: Any, drawables: DrawableArtists
+) -> dict[str, Any]:
     """The artists a frame updates, animated (left out of the background), and their order."""
     from matplotlib.collections import PolyCollection
     from matplotlib.patches import Polygon
@@ -312,7 +323,8 @@ def _moving_artists(ax: Axes, world: Any, slam: bool, localizer: Any) -> dict[st
     )
     a["heading"] = ax.plot([], [], color="#0b2f6b", linewidth=1.5, zorder=7.5)[0]
     a["draw_order"] = sorted(
-        (v for k, v in a.items() if k not in ("outline", "size")), key=lambda v: v.get_zorder()
+        [*(v for k, v in a.items() if k not in ("outline", "size")), *drawables.artists],
+        key=lambda v: v.get_zorder(),
     )
     for artist in a["draw_order"]:
         artist.set_animated(True)

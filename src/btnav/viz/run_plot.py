@@ -3,7 +3,8 @@
 Registered as the `png` output plugin (the `viz` entry point), so a mission asks for it
 with `outputs: [report, png]`. Under the world lies the inflated global costmap (what
 the planner saw); over it the last global plan, the ground-truth path (solid), the
-localiser's estimate (dashed, another colour), the task's poses numbered and every
+localiser's estimate (dashed, another colour), the task's poses numbered, the shapes
+plugins draw of themselves (`core.drawing`, as the run left them) and every
 contact as a red X naming what was hit. With a particle-filter localiser (AMCL) the
 particle cloud at the end is drawn too (a dot and a short heading tick each), with
 the final estimate and ground-truth poses as arrows, and the title adds the
@@ -21,6 +22,8 @@ from ..costmap.cost_values import FREE_SPACE, NO_INFORMATION
 from ..mission.outputs import RunOutput
 from ..plugins import register
 from .legend import legend_entries
+from .plugin_drawings import plot_drawables
+from .run_recorder import drawing_plugins, plugin_drawables
 from .world_plot import _figsize, _matplotlib, draw_world
 
 if TYPE_CHECKING:
@@ -136,6 +139,9 @@ def draw_run(run: RunOutput) -> Figure:
             zorder=7,
         )
     _draw_particles(ax, run.navigator.runtime.localizer, track)
+    nav = run.navigator
+    frame = nav.bt_navigator.params.global_frame
+    plot_drawables(ax, plugin_drawables(nav, drawing_plugins(nav), frame))
     _draw_contacts(ax, world.contacts)
     ax.set_title(_title(run.report, _has_particles(run.navigator.runtime.localizer)), fontsize=9)
     from matplotlib.patches import Patch

@@ -4,9 +4,10 @@
 `start`: at `rate` Hz of sim time it keeps a `Snapshot` of only what a frame draws,
 as small copies (the robot's ground-truth pose, the scan's end points, the global
 and local plans, a thinned particle cloud, the moving obstacles, the running BT
-actions). Nothing large is kept per frame: the static map is drawn once, and a
-growing SLAM map is copied only when SLAM publishes a new one (frames share it).
-The global plan is shared the same way until a replan.
+actions, and the shapes plugins draw of themselves: `core.drawing`). Nothing large
+is kept per frame: the static map is drawn once, and a growing SLAM map is copied
+only when SLAM publishes a new one (frames share it). The global plan is shared the
+same way until a replan.
 
 A long run is thinned evenly: when more than `max_frames - 1` snapshots are held,
 every other one is dropped and the recorder keeps one tick in twice as many from then
@@ -27,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.drawing import Drawable, Draws
 from ..core.errors import FrameError
 from ..core.geometry import Pose2D
 from ..core.messages import LaserScan
@@ -73,6 +75,7 @@ class Snapshot:
     actions: tuple[str, ...] = ()
     waypoint: tuple[int, int] | None = None
     result: str | None = None  # the run's result, on the closing frame only
+    drawings: list[Drawable] = field(default_factory=list)  # plugins' own shapes (global frame)
 
 
 def _xy(points: Any) -> np.ndarray:
@@ -107,6 +110,7 @@ class RunRecorder:
         self._map_of: tuple[Any, MapVersion | None] = (None, None)
         self._static_count: tuple[int, int] | None = None
         self._scan_at: tuple[LaserScan, Pose2D] | None = None
+        self.drawing_plugins = drawing_plugins(nav)
         if nav.runtime.latest_scan is not None:
             self._scan_received(nav.runtime.latest_scan)
         nav.runtime.subscribe("scan", self._scan_received)
@@ -124,9 +128,20 @@ class RunRecorder:
 
     def snapshot(self, now: float, result: str | None = None) -> Snapshot:
         """Keep what a frame at `now` draws (and thin when over the cap)."""
+        snap = self.snapshot_now(now, result)
+        if result is not None:
+            return snap
+        self.snapshots.append(snap)
+        if len(self.snapshots) > self.max_frames - 1:  # room for the closing frame
+            self.stride *= 2
+            self.snapshots = [s for s in self.snapshots if s.tick % self.stride == 0]
+        return snap
+
+    def snapshot_now(self, now: float, result: str | None = None) -> Snapshot:
+        """What a frame at `now` draws, not kept (the live view's frames)."""
         nav, rt = self.nav, self.nav.runtime
         gt = rt.world.robot_pose
-        snap = Snapshot(
+        return Snapshot(
             tick=self.ticks,
             time=now,
             robot=(gt.x, gt.y, gt.yaw),
@@ -139,14 +154,8 @@ class RunRecorder:
             actions=tuple(running_actions(nav)),
             waypoint=self._waypoint(),
             result=result,
+            drawings=plugin_drawables(nav, self.drawing_plugins, self.global_frame),
         )
-        if result is not None:
-            return snap
-        self.snapshots.append(snap)
-        if len(self.snapshots) > self.max_frames - 1:  # room for the closing frame
-            self.stride *= 2
-            self.snapshots = [s for s in self.snapshots if s.tick % self.stride == 0]
-        return snap
 
     def close(self, result: str) -> list[Snapshot]:
         """The frames: the snapshots, then the end of the run with its result."""
@@ -249,25 +258,45 @@ class RunRecorder:
 def local_plan(server: Any, pose: Pose2D) -> np.ndarray:
     """(N, 2) the local plan of the controller `server` runs, in its costmap's frame.
 
-    What each controller keeps: MPPI's optimal trajectory, DWB's best-scored trajectory,
-    Regulated Pure Pursuit's path up to its lookahead point (the carrot); for another
-    controller, the global plan as the controller server cut it to the local costmap.
+    The controller's own `local_plan(pose)` (MPPI's optimal trajectory, DWB's best
+    trajectory, Regulated Pure Pursuit's path to its carrot); a controller with none
+    (None, or no such method) shows the global plan as the controller server cut it.
     """
-    controller = server.controller
-    if callable(getattr(controller, "optimal_trajectory", None)):  # MPPI
-        return np.asarray(controller.optimal_trajectory(pose))[:, :2]
-    trajectories = getattr(controller, "last_trajectories", None)  # DWB
-    scores = getattr(controller, "last_scores", None)
-    if trajectories is not None and scores is not None and len(scores):
-        best = int(np.argmin(scores))
-        if np.isfinite(scores[best]):
-            return np.asarray(trajectories.poses[best])[:, :2]
-        return np.zeros((0, 2))
-    cut = server.local_plan
-    points = np.zeros((0, 2)) if cut is None else np.asarray(cut.poses)[:, :2]
-    carrot = getattr(controller, "carrot", None)  # Regulated Pure Pursuit
-    if carrot is not None and len(points):
-        goal = pose.transform_points(np.asarray(carrot, dtype=float).reshape(1, 2))
-        nearest = int(np.argmin(np.hypot(*(points - goal).T)))
-        points = np.vstack([points[: nearest + 1], goal])
-    return points
+    own = getattr(server.controller, "local_plan", None)
+    points = own(pose) if callable(own) else None
+    if points is None:
+        cut = server.local_plan
+        return np.zeros((0, 2)) if cut is None else np.asarray(cut.poses)[:, :2]
+    return np.asarray(points, dtype=float).reshape(len(points), -1)[:, :2]
+
+
+def drawing_plugins(nav: Any) -> list[Any]:
+    """The plugins that may draw themselves: the costmaps' layers and filters (asked once,
+    as they do not change during a run); the running controller is asked each time."""
+    found = []
+    for server in (nav.stack.global_costmap, nav.stack.local_costmap):
+        ros = getattr(server, "costmap_ros", None)
+        if ros is not None:
+            found += [p for p in (*ros.layers, *ros.filters) if isinstance(p, Draws)]
+    return found
+
+
+def plugin_drawables(nav: Any, plugins: list[Any], global_frame: str) -> list[Drawable]:
+    """What `plugins` and the running controller draw, moved into `global_frame` (a shape in
+    a frame the tree does not know is left out)."""
+    controller = nav.stack.controller_server.controller
+    sources = [*plugins, controller] if isinstance(controller, Draws) else plugins
+    out: list[Drawable] = []
+    moved: dict[str, Pose2D | None] = {}
+    for plugin in sources:
+        for d in plugin.drawables():
+            if d.frame not in moved:
+                try:
+                    moved[d.frame] = nav.runtime.lookup(global_frame, d.frame)
+                except FrameError:
+                    moved[d.frame] = None
+            to_global = moved[d.frame]
+            if to_global is not None:
+                pts = _xy(to_global.transform_points(d.points)) if len(d.points) else _NONE
+                out.append(Drawable(d.kind, pts, global_frame, d.color, d.label))
+    return out

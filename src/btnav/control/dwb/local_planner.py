@@ -271,6 +271,17 @@ class DWBLocalPlanner(Controller):
         for c in self.critics:
             c.reset()
 
+    def local_plan(self, pose: Pose2D) -> np.ndarray | None:
+        """The best-scored trajectory of the last cycle (DWB's local plan); empty when
+        every trajectory was illegal."""
+        trajs, scores = self.last_trajectories, self.last_scores
+        if trajs is None or scores is None or not len(scores):
+            return np.zeros((0, 3))
+        best = int(np.argmin(scores))
+        if not math.isfinite(scores[best]):
+            return np.zeros((0, 3))
+        return np.asarray(trajs.poses[best], dtype=float).reshape(-1, 3)
+
     def set_speed_limit(self, speed_limit: float, percentage: bool) -> None:
         """Nav2's KinematicsHandler::setSpeedLimit, from the section's own limits."""
         self.kinematics = self.base_kinematics.with_speed_limit(speed_limit, percentage)

@@ -154,6 +154,10 @@ class MPPIController(Controller):
 
     # -- introspection ------------------------------------------------------------------
 
+    def local_plan(self, pose: Pose2D) -> np.ndarray | None:
+        """The optimal trajectory (what MPPI publishes as its local plan)."""
+        return self.optimal_trajectory(pose) if self._has_plan else None
+
     def optimal_trajectory(self, pose: Pose2D) -> np.ndarray:
         """(T, 3) poses of the current (already shifted) control sequence, for plots and tests."""
         return self.optimizer.optimal_trajectory(np.array([pose.x, pose.y, pose.yaw]))
