@@ -151,7 +151,21 @@ def _run(args: argparse.Namespace) -> int:
             overrides=overrides,
             origins=origins,
             gif=args.gif,
+            foxglove=_foxglove_settings(args),
         )
+
+
+def _foxglove_settings(args: argparse.Namespace) -> Any:
+    """`--foxglove [--foxglove-host H] [--foxglove-port P] [--speed X]`, or None."""
+    if not args.foxglove:
+        return None
+    from ..viz.foxglove_live import DEFAULT_HOST, DEFAULT_PORT, LiveSettings
+
+    if args.speed < 0:
+        raise BtnavError(f"--speed {args.speed:g}: a speed is >= 0 (0: as fast as it goes)")
+    host = DEFAULT_HOST if args.foxglove_host is None else args.foxglove_host
+    port = DEFAULT_PORT if args.foxglove_port is None else args.foxglove_port
+    return LiveSettings(host, port, args.speed)
 
 
 def _batch(args: argparse.Namespace) -> int:
@@ -219,6 +233,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--gif", action="store_true", help="also write run.gif, the run animated (viz extra)"
     )
     run.add_argument("--package", action="append", metavar="NAME=DIR", help=package_help)
+    _foxglove_arguments(run)
     run.set_defaults(func=_run)
 
     batch = sub.add_parser(
@@ -403,6 +418,25 @@ def _warning_printer(python_show: Callable[..., None]) -> Callable[..., None]:
             python_show(message, category, filename, lineno, file, line)
 
     return show
+
+
+def _foxglove_arguments(run: argparse.ArgumentParser) -> None:
+    run.add_argument(
+        "--foxglove",
+        action="store_true",
+        help="serve the run live to Foxglove (WebSocket; the view extra); a /goal_pose it "
+        "publishes is a goal; after the task it keeps serving until Ctrl-C",
+    )
+    run.add_argument("--foxglove-host", help="the server's address (default: 127.0.0.1)")
+    run.add_argument(
+        "--foxglove-port", type=int, help="the server's port (default: 8765; 0: a free one)"
+    )
+    run.add_argument(
+        "--speed",
+        type=float,
+        default=1.0,
+        help="sim seconds per wall second while a viewer is attached (0: as fast as it goes)",
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -1,7 +1,9 @@
 """`btnav run MISSION [--out DIR] [--seed N] [--set KEY=VALUE ...] [--gif]`: the run, one line
 of result, then one line per missed waypoint (its pose, Nav2's error code and message, the
 tree node that failed last, the sim time). `--gif` adds the `gif` output (`run.gif`, the
-viz extra) to the mission's outputs.
+viz extra) to the mission's outputs. `--foxglove` serves the run live to Foxglove
+(`viz.foxglove_live`) and, after the result, keeps serving (and running the goals a
+client sends) until Ctrl-C.
 
 On a terminal a live status line (sim time, real-time factor, the running action,
 the waypoint) is redrawn while the run goes and erased before the result; elsewhere
@@ -14,6 +16,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..core.errors import BtnavError
 from ..mission.mission import Mission
 from ..mission.runner import run_mission
 from ..mission.stages import is_staged, run_stages, staged_mission_name
@@ -32,18 +35,28 @@ def run_main(
     overrides: dict[str, Any] | None = None,
     origins: dict[str, str] | None = None,
     gif: bool = False,
+    foxglove: Any = None,
 ) -> int:
     """Exit 0 when the task succeeded, 1 when it failed, hit its time limit or missed
-    waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it."""
+    waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it.
+    `foxglove` (a `LiveSettings`) serves the run to Foxglove."""
     if is_staged(path):
+        if foxglove is not None:
+            raise BtnavError(f"{path}: --foxglove serves one mission, not a staged one")
         return _run_stages(path, out, seed, overrides, origins, gif)
     mission = Mission.load(path, seed=seed, overrides=overrides, origins=origins)
     if gif and "gif" not in mission.spec.outputs:
         mission.spec.outputs = [*mission.spec.outputs, "gif"]
     out_dir = Path(out) if out is not None else default_out_dir(mission)
+    live = None if foxglove is None else _foxglove_output(foxglove)
     status = StatusLine(sys.stdout, task=mission.task, goals=len(mission.spec.task.poses))
     try:
-        report = run_mission(mission, out_dir, progress=status if status.enabled else None)
+        report = run_mission(
+            mission,
+            out_dir,
+            progress=status if status.enabled else None,
+            plugins=None if live is None else {"foxglove": live},
+        )
     finally:
         status.close()
     print(report.summary())
@@ -51,7 +64,30 @@ def run_main(
         print(f"  {line}")
     if report.outputs:
         print(f"outputs in {out_dir}/: {', '.join(report.outputs)}")
+    if live is not None and live.live is not None:
+        _serve_on(live.live)
     return report.exit_code
+
+
+def _foxglove_output(settings: Any) -> Any:
+    """The `foxglove` output with the flags' settings, left serving after the run."""
+    from ..viz.foxglove_live import FoxgloveOutput
+
+    def serving(live: Any) -> None:
+        print(f"foxglove: serving {live.url} (Foxglove: open connection, Foxglove WebSocket)")
+
+    return FoxgloveOutput(settings, keep_serving=True, serving=serving)
+
+
+def _serve_on(live: Any) -> None:
+    """After the result: keep the sim and the server going for clicked goals, until Ctrl-C."""
+    print(f"foxglove: still serving {live.url}; goals sent on /goal_pose run; Ctrl-C to stop")
+    try:
+        live.idle()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        live.close()
 
 
 def _run_stages(

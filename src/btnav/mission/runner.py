@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import shutil
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
@@ -115,13 +115,17 @@ def run_mission(
     mission: Mission,
     out_dir: str | Path | None = None,
     progress: Callable[[BasicNavigator], None] | None = None,
+    plugins: Mapping[str, Any] | None = None,
 ) -> RunReport:
     """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
 
     `progress(nav)` is called at every poll of the wait (before each physics step) for
     a live status; it must only read, so the run is the same with or without it.
+    `plugins` are output plugins the caller built (the CLI's `--foxglove` server, with
+    its flags), started and written as the mission's own; one replaces its namesake.
     """
     outputs = list(mission.spec.outputs) if out_dir is not None else []
+    outputs += [name for name in plugins or {} if name not in outputs and out_dir is not None]
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
@@ -132,7 +136,8 @@ def run_mission(
                     shutil.rmtree(target)
                 else:
                     target.unlink(missing_ok=True)
-    plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
+    given = dict(plugins or {})
+    plugins = {n: given.get(n) or output_plugin(n) for n in outputs if n not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator
     with ExitStack() as files:
