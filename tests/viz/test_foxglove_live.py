@@ -115,7 +115,9 @@ def test_a_client_gets_the_scan_and_the_latched_map(tmp_path):
 
     async def script(ws: Any, c: Client) -> None:
         subs = await c.subscribe(["/scan", "/map"])
-        await c.receive(lambda: len(c.received.get("/scan", [])) >= 3 and "/map" in c.received, subs)
+        await c.receive(
+            lambda: len(c.received.get("/scan", [])) >= 3 and "/map" in c.received, subs
+        )
 
     try:
         client = Client(live.port, script)
