@@ -12,6 +12,7 @@ from __future__ import annotations
 import asyncio
 import json
 import math
+import os
 import struct
 import subprocess
 import sys
@@ -214,16 +215,14 @@ def test_without_foxglove_the_cli_says_which_extra(tmp_path, monkeypatch, capsys
 
 
 def test_a_plain_run_imports_no_foxglove(tmp_path):
+    """No foxglove-sdk, so no server and no thread: the viewer costs a plain run nothing."""
     code = (
         "import sys\n"
         "from btnav.cli import main\n"
         f"main(['run', {str(TOUR)!r}, '-o', {str(tmp_path)!r}, '--set', 'mission.time_limit=1'])\n"
-        "assert 'foxglove' not in sys.modules, 'foxglove imported'\n"
-        "assert 'btnav.viz.foxglove_live' not in sys.modules\n"
+        "assert not [m for m in sys.modules if m.split('.')[0] == 'foxglove'], 'imported'\n"
     )
     env = {"PYTHONPATH": str(Path(__file__).resolve().parents[2] / "src")}
-    import os
-
     done = subprocess.run(
         [sys.executable, "-c", code], env={**os.environ, **env}, capture_output=True, text=True
     )
