@@ -228,3 +228,65 @@ def test_a_plain_run_imports_no_foxglove(tmp_path):
     )
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "report.json").is_file()
+
+
+def test_an_initial_pose_a_client_publishes_resets_amcl():
+    nav = tour().navigator()
+    live = FoxgloveLive(nav, FAST)
+    msgs = rm.RosMessages()
+    from btnav.core.geometry import Pose2D
+    from btnav.core.messages import PoseWithCovariance
+
+    there = Pose2D(1.5, 1.2, 0.3)
+    cov = np.diag([0.01, 0.01, 0.0025])
+    msg = msgs.pose_with_covariance(PoseWithCovariance(0.0, there, cov, frame_id="map"))
+    payload = msgs.serialize(msg, rm.POSE_WITH_COVARIANCE)
+    heard = threading.Event()
+
+    async def script(ws: Any, c: Client) -> None:
+        await c.receive(lambda: bool(c.info), {})
+        channel = {"id": 3, "topic": "/initialpose", "encoding": "cdr"}
+        channel["schemaName"] = rm.POSE_WITH_COVARIANCE
+        await ws.send(json.dumps({"op": "advertise", "channels": [channel]}))
+        await asyncio.sleep(0.2)
+        await ws.send(b"\x01" + struct.pack("<I", 3) + payload)
+        await asyncio.to_thread(heard.wait, 60)
+
+    amcl = nav.runtime.localizer
+
+    def moved() -> bool:
+        pose = amcl.pose.pose
+        return math.hypot(pose.x - there.x, pose.y - there.y) < 0.05
+
+    try:
+        client = Client(live.port, script)
+        end = nav.now + 60.0
+        live.idle(until=lambda: moved() or nav.now > end or client.done.is_set())
+        heard.set()
+        client.check()
+    finally:
+        live.close()
+    pose = amcl.pose.pose
+    assert math.hypot(pose.x - there.x, pose.y - there.y) < 0.05
+    assert abs(pose.yaw - there.yaw) < 0.05
+
+
+def test_the_cli_serves_after_the_result_until_ctrl_c(tmp_path, monkeypatch, capsys):
+    served: list[FoxgloveLive] = []
+
+    def interrupted(self: FoxgloveLive, until: Any = None, step: float = 0.1) -> None:
+        served.append(self)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(FoxgloveLive, "idle", interrupted)
+    argv = ["run", str(TOUR), "-o", str(tmp_path), "--foxglove", "--foxglove-port", "0"]
+    code = cli_main([*argv, "--speed", "0", "--set", "mission.time_limit=2"])
+    out = capsys.readouterr().out.splitlines()
+    assert code == 1  # the tour does not end in 2 s; Ctrl-C then ends the serving quietly
+    (live,) = served
+    assert out[0] == f"foxglove: serving ws://127.0.0.1:{live.port} " + (
+        "(Foxglove: open connection, Foxglove WebSocket)"
+    )
+    assert out[-1].startswith(f"foxglove: still serving ws://127.0.0.1:{live.port}; ")
+    assert live.server is None  # stopped
+    assert (tmp_path / "report.json").is_file()

@@ -132,6 +132,7 @@ class FoxgloveLive:
                 f"cannot serve Foxglove on {settings.host}:{settings.port} ({err}); "
                 "choose another with --foxglove-port"
             ) from None
+        self.port = int(self.server.port)  # the free one when settings.port is 0
         self._channels: dict[str, Any] = {}
         self._latched: dict[str, tuple[bytes, int]] = {}
         server = nav.stack.controller_server
@@ -148,10 +149,6 @@ class FoxgloveLive:
         self.topics = RunTopics(nav, self.msgs, self._put)
         self.topics.start()
         rt.add(self)
-
-    @property
-    def port(self) -> int:
-        return int(self.server.port)
 
     @property
     def url(self) -> str:
