@@ -187,6 +187,11 @@ def run_mission(
         else:
             result = nav.get_result()
         wall = time.perf_counter() - wall0
+        # The run is over: its recorders stop before their files close (a live view,
+        # `--foxglove`, steps the sim on after the result).
+        nav.runtime.remove(recorder)
+        if log_file is not None:
+            log.close()
 
     report = build_report(
         mission, nav, result, recorder, counters, wall, limit_reached, outputs, failures
