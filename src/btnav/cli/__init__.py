@@ -154,6 +154,7 @@ def _run(args: argparse.Namespace) -> int:
             view=args.view or args.open,
             open_browser=args.open,
             speed=args.speed,
+            foxglove=_foxglove_settings(args),
         )
 
 
@@ -161,6 +162,19 @@ def _view(args: argparse.Namespace) -> int:
     from .view import view_main
 
     return view_main(args.run_dir, open_browser=args.open)
+
+
+def _foxglove_settings(args: argparse.Namespace) -> Any:
+    """`--foxglove [--foxglove-host H] [--foxglove-port P] [--speed X]`, or None."""
+    if not args.foxglove:
+        return None
+    from ..viz.foxglove_live import DEFAULT_HOST, DEFAULT_PORT, LiveSettings
+
+    if args.speed < 0:
+        raise BtnavError(f"--speed {args.speed:g}: a speed is >= 0 (0: as fast as it goes)")
+    host = DEFAULT_HOST if args.foxglove_host is None else args.foxglove_host
+    port = DEFAULT_PORT if args.foxglove_port is None else args.foxglove_port
+    return LiveSettings(host, port, args.speed)
 
 
 def _batch(args: argparse.Namespace) -> int:
@@ -238,9 +252,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--speed",
         type=float,
         default=1.0,
-        help="with --view: sim time per wall second (default 1; 0: as fast as it goes)",
+        help="with --view or --foxglove: sim seconds per wall second (default 1; 0: as fast as it goes)",
     )
     run.add_argument("--package", action="append", metavar="NAME=DIR", help=package_help)
+    _foxglove_arguments(run)
     run.set_defaults(func=_run)
 
     view = sub.add_parser(
@@ -432,6 +447,19 @@ def _warning_printer(python_show: Callable[..., None]) -> Callable[..., None]:
             python_show(message, category, filename, lineno, file, line)
 
     return show
+
+
+def _foxglove_arguments(run: argparse.ArgumentParser) -> None:
+    run.add_argument(
+        "--foxglove",
+        action="store_true",
+        help="serve the run live to Foxglove (WebSocket; the view extra); a /goal_pose it "
+        "publishes is a goal; after the task it keeps serving until Ctrl-C",
+    )
+    run.add_argument("--foxglove-host", help="the server's address (default: 127.0.0.1)")
+    run.add_argument(
+        "--foxglove-port", type=int, help="the server's port (default: 8765; 0: a free one)"
+    )
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -2,7 +2,9 @@
 of result, then one line per missed waypoint (its pose, Nav2's error code and message, the
 tree node that failed last, the sim time). `--gif` adds the `gif` output (`run.gif`, the
 viz extra) to the mission's outputs. `--view` serves the live view (the view extra) on
-127.0.0.1, paced to `--speed` times the wall clock, and keeps it serving after the run.
+127.0.0.1, paced to `--speed` times the wall clock, and keeps it serving after the run. `--foxglove` serves the run live to Foxglove
+(`viz.foxglove_live`) and, after the result, keeps serving (and running the goals a
+client sends) until Ctrl-C.
 
 On a terminal a live status line (sim time, real-time factor, the running action,
 the waypoint) is redrawn while the run goes and erased before the result; elsewhere
@@ -37,24 +39,35 @@ def run_main(
     view: bool = False,
     open_browser: bool = False,
     speed: float = 1.0,
+    foxglove: Any = None,
 ) -> int:
     """Exit 0 when the task succeeded, 1 when it failed, hit its time limit or missed
     waypoints. `origins` maps each override key to the `--set KEY=VALUE` that gave it.
-    With `view` the run is shown live (and kept serving after its end, until Ctrl-C)."""
+    With `view` the run is shown live (and kept serving after its end, until Ctrl-C);
+    `foxglove` (a `LiveSettings`) serves the run to Foxglove."""
+    if view and foxglove is not None:
+        raise BtnavError("--view and --foxglove: one viewer at a time")
     if is_staged(path):
         if view:
             raise BtnavError(f"{path}: --view shows one mission; a mission in stages is not one")
+        if foxglove is not None:
+            raise BtnavError(f"{path}: --foxglove serves one mission, not a staged one")
         return _run_stages(path, out, seed, overrides, origins, gif)
     mission = Mission.load(path, seed=seed, overrides=overrides, origins=origins)
     if gif and "gif" not in mission.spec.outputs:
         mission.spec.outputs = [*mission.spec.outputs, "gif"]
     out_dir = Path(out) if out is not None else default_out_dir(mission)
     live = _live_view(mission, speed, open_browser) if view else None
+    fox = None if foxglove is None else _foxglove_output(foxglove)
     status = StatusLine(sys.stdout, task=mission.task, goals=len(mission.spec.task.poses))
     try:
         attach = None if live is None else lambda nav: live.attach(nav, mission)
         report = run_mission(
-            mission, out_dir, progress=status if status.enabled else None, attach=attach
+            mission,
+            out_dir,
+            progress=status if status.enabled else None,
+            attach=attach,
+            plugins=None if fox is None else {"foxglove": fox},
         )
     finally:
         status.close()
@@ -65,6 +78,8 @@ def run_main(
         print(f"outputs in {out_dir}/: {', '.join(report.outputs)}")
     if live is not None:
         _keep_serving(live, report.status)
+    elif fox is not None and fox.live is not None:
+        _serve_on(fox.live)
     return report.exit_code
 
 
@@ -90,6 +105,27 @@ def _keep_serving(live: Any, result: str) -> None:
         "drag a 2D Goal Pose to drive on, Ctrl-C to stop",
         flush=True,
     )
+    try:
+        live.idle()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        live.close()
+
+
+def _foxglove_output(settings: Any) -> Any:
+    """The `foxglove` output with the flags' settings, left serving after the run."""
+    from ..viz.foxglove_live import FoxgloveOutput
+
+    def serving(live: Any) -> None:
+        print(f"foxglove: serving {live.url} (Foxglove: open connection, Foxglove WebSocket)")
+
+    return FoxgloveOutput(settings, keep_serving=True, serving=serving)
+
+
+def _serve_on(live: Any) -> None:
+    """After the result: keep the sim and the server going for clicked goals, until Ctrl-C."""
+    print(f"foxglove: still serving {live.url}; goals sent on /goal_pose run; Ctrl-C to stop")
     try:
         live.idle()
     except KeyboardInterrupt:

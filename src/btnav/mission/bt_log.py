@@ -31,7 +31,7 @@ class BtLog:
     """A bt_navigator tick listener writing node status changes."""
 
     def __init__(
-        self, sink: TextIO, now: Callable[[], float], *, idle_transitions: bool = True
+        self, sink: TextIO | None, now: Callable[[], float], *, idle_transitions: bool = True
     ) -> None:
         self.sink: TextIO | None = sink
         self.now = now
@@ -67,14 +67,14 @@ class BtLog:
             if hasattr(type(node), "status_listener"):
                 node.status_listener = self._changed
 
+    def close(self) -> None:
+        """Write no more (the file is about to close); the nodes may go on reporting."""
+        self.sink = None
+
     def _changed(self, node: Any, old: Status, new: Status) -> None:
         uid = self._uid.get(id(node))
         if uid is not None:
             self._write(uid, node, self._last[uid], new, self.now())
-
-    def close(self) -> None:
-        """Write no more (the run's file is closed; a live view may drive the tree on)."""
-        self.sink = None
 
     def _write(self, uid: int, node: Any, before: Status, status: Status, now: float) -> None:
         self._last[uid] = status
@@ -83,6 +83,8 @@ class BtLog:
         if status is Status.INVALID and not self.idle_transitions:
             return
         self.changes += 1
+        if self.sink is None:
+            return
         record = {
             "timestamp": now,
             "navigator": self._navigator,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import shutil
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
@@ -116,6 +116,7 @@ def run_mission(
     out_dir: str | Path | None = None,
     progress: Callable[[BasicNavigator], None] | None = None,
     attach: Callable[[BasicNavigator], None] | None = None,
+    plugins: Mapping[str, Any] | None = None,
 ) -> RunReport:
     """Run `mission` to its end; write its outputs into `out_dir` (None: write nothing).
 
@@ -123,8 +124,11 @@ def run_mission(
     a live status; it must only read, so the run is the same with or without it.
     `attach(nav)` is called once the bring-up is built, before the task is sent (the
     live view adds its component there).
+    `plugins` are output plugins the caller built (the CLI's `--foxglove` server, with
+    its flags), started and written as the mission's own; one replaces its namesake.
     """
     outputs = list(mission.spec.outputs) if out_dir is not None else []
+    outputs += [name for name in plugins or {} if name not in outputs and out_dir is not None]
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
@@ -135,7 +139,8 @@ def run_mission(
                     shutil.rmtree(target)
                 else:
                     target.unlink(missing_ok=True)
-    plugins = {name: output_plugin(name) for name in outputs if name not in BUILTIN_OUTPUTS}
+    given = dict(plugins or {})
+    plugins = {n: given.get(n) or output_plugin(n) for n in outputs if n not in BUILTIN_OUTPUTS}
     nav = mission.navigator()
     bt = nav.bt_navigator
     bring_up = [*nav.runtime.components, *bt.tick_listeners]
@@ -174,13 +179,14 @@ def run_mission(
             bt.tick_listeners.append(failures)
 
         if out is not None:
-            start_outputs(plugins, nav, out)
+            start_outputs({n: p for n, p in plugins.items() if n not in given}, nav, out)
+        # What the caller brought (a live view, `--foxglove`) stays after the run's end.
+        seen = {id(c) for c in (*nav.runtime.components, *bt.tick_listeners)}
+        if out is not None:
+            start_outputs({n: p for n, p in plugins.items() if n in given}, nav, out)
         if attach is not None:
-            seen = {id(c) for c in (*nav.runtime.components, *bt.tick_listeners)}
             attach(nav)
-            bring_up += [
-                c for c in (*nav.runtime.components, *bt.tick_listeners) if id(c) not in seen
-            ]
+        bring_up += [c for c in (*nav.runtime.components, *bt.tick_listeners) if id(c) not in seen]
         wall0 = time.perf_counter()
         limit_reached = False
         if start_task(nav, mission):

@@ -30,6 +30,8 @@ PATH = "nav_msgs/msg/Path"
 TWIST = "geometry_msgs/msg/Twist"
 TWIST_STAMPED = "geometry_msgs/msg/TwistStamped"
 POSE_WITH_COVARIANCE = "geometry_msgs/msg/PoseWithCovarianceStamped"
+POSE_STAMPED = "geometry_msgs/msg/PoseStamped"
+POSE_ARRAY = "geometry_msgs/msg/PoseArray"
 BT_LOG = "nav2_msgs/msg/BehaviorTreeLog"
 BT_STATUS_CHANGE = "nav2_msgs/msg/BehaviorTreeStatusChange"
 
@@ -84,6 +86,13 @@ class RosMessages:
 
     def serialize(self, msg: Any, msgtype: str) -> bytes:
         return bytes(self.store.serialize_cdr(msg, msgtype))
+
+    def deserialize(self, data: bytes, msgtype: str) -> Any:
+        return self.store.deserialize_cdr(data, msgtype)
+
+    def definition(self, msgtype: str) -> str:
+        """The type's `.msg` text with its dependencies, as a ros2msg schema holds it."""
+        return self.store.generate_msgdef(msgtype, ros_version=2)[0]
 
     # -- pieces ---------------------------------------------------------------------------
 
@@ -204,6 +213,38 @@ class RosMessages:
                 for x, y, qz, qw in zip(
                     poses[:, 0].tolist(),
                     poses[:, 1].tolist(),
+                    np.sin(half).tolist(),
+                    np.cos(half).tolist(),
+                    strict=True,
+                )
+            ],
+        )
+
+    def points_path(self, points: np.ndarray, seconds: float, frame_id: str) -> Any:
+        """nav_msgs/Path through (N, 2) points, each pose facing the next (a local plan)."""
+        xy = np.asarray(points, dtype=float).reshape(-1, 2)
+        yaw = np.zeros(len(xy))
+        if len(xy) > 1:
+            step = np.diff(xy, axis=0)
+            yaw[:-1] = np.arctan2(step[:, 1], step[:, 0])
+            yaw[-1] = yaw[-2]
+        return self.path(Path(seconds, np.column_stack([xy, yaw]), frame_id=frame_id))
+
+    def pose_array(self, poses: np.ndarray, seconds: float, frame_id: str) -> Any:
+        """geometry_msgs/PoseArray of (N, 3) x, y, yaw poses (AMCL's particle cloud)."""
+        rows = np.asarray(poses, dtype=float).reshape(-1, 3)
+        half = rows[:, 2] / 2.0
+        point, quaternion, pose = self._point, self._quaternion, self._pose
+        return self._t[POSE_ARRAY](
+            header=self.header(seconds, frame_id),
+            poses=[
+                pose(
+                    position=point(x=x, y=y, z=0.0),
+                    orientation=quaternion(x=0.0, y=0.0, z=qz, w=qw),
+                )
+                for x, y, qz, qw in zip(
+                    rows[:, 0].tolist(),
+                    rows[:, 1].tolist(),
                     np.sin(half).tolist(),
                     np.cos(half).tolist(),
                     strict=True,
