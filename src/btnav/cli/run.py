@@ -100,17 +100,11 @@ def _live_view(mission: Mission, speed: float, open_browser: bool) -> Any:
 def _keep_serving(live: Any, result: str) -> None:
     """After the run: the sim idles and the page stays up for more goals, until Ctrl-C."""
     live.result = result
-    print(
+    _idle_until_ctrl_c(
+        live,
         f"the run has ended; {live.url} keeps serving: "
         "drag a 2D Goal Pose to drive on, Ctrl-C to stop",
-        flush=True,
     )
-    try:
-        live.idle()
-    except KeyboardInterrupt:
-        pass
-    finally:
-        live.close()
 
 
 def _foxglove_output(settings: Any) -> Any:
@@ -125,7 +119,14 @@ def _foxglove_output(settings: Any) -> Any:
 
 def _serve_on(live: Any) -> None:
     """After the result: keep the sim and the server going for clicked goals, until Ctrl-C."""
-    print(f"foxglove: still serving {live.url}; goals sent on /goal_pose run; Ctrl-C to stop")
+    _idle_until_ctrl_c(
+        live, f"foxglove: still serving {live.url}; goals sent on /goal_pose run; Ctrl-C to stop"
+    )
+
+
+def _idle_until_ctrl_c(live: Any, line: str) -> None:
+    """Say so, then let a viewer (`--view`, `--foxglove`) idle the sim on until Ctrl-C."""
+    print(line, flush=True)
     try:
         live.idle()
     except KeyboardInterrupt:
