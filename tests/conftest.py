@@ -55,3 +55,38 @@ def fused_multiply_adds(tmp_path: Path) -> Callable[[str, str], tuple[int, int]]
         return n_chars, n_fused
 
     return count
+
+
+_SHORT_RUN = """
+import hashlib, sys
+from pathlib import Path
+sys.path.insert(0, {missions!r})
+from missions import write_mission
+from btnav.mission import Mission, run_mission
+out = Path({out!r})
+path = write_mission(
+    out, "short", localization="amcl", task={{"navigate_to_pose": [3.0, 2.0, 1.57]}}
+)
+run_mission(Mission.load(path), out / "run")
+print(hashlib.sha256((out / "run" / "trajectory.csv").read_bytes()).hexdigest())
+"""
+
+
+def short_run_digest(out: Path, **env: str) -> str:
+    """sha256 of trajectory.csv of a short AMCL run (seed 0), in a fresh interpreter with
+    `env` added: the run the pinned digest and the kernels' same-bits tests compare."""
+    out.mkdir(parents=True, exist_ok=True)
+    code = _SHORT_RUN.format(missions=str(Path(__file__).parent / "mission"), out=str(out))
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        env={**os.environ, **env},
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return done.stdout.split()[-1]
+
+
+@pytest.fixture(name="short_run_digest", scope="session")
+def _short_run_digest() -> Callable[..., str]:
+    return short_run_digest

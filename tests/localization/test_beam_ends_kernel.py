@@ -3,11 +3,6 @@ demo's trajectory) are the same bits with BTNAV_AMCL=numpy or without."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -102,34 +97,10 @@ def test_no_fused_multiply_add_in_the_kernel(fused_multiply_adds) -> None:
     assert n_fused == 0
 
 
-_SHORT_RUN = """
-import hashlib, sys
-from pathlib import Path
-sys.path.insert(0, {missions!r})
-from missions import write_mission
-from btnav.mission import Mission, run_mission
-out = Path({out!r})
-path = write_mission(
-    out, "short", localization="amcl", task={{"navigate_to_pose": [3.0, 2.0, 1.57]}}
-)
-run_mission(Mission.load(path), out / "run")
-print(hashlib.sha256((out / "run" / "trajectory.csv").read_bytes()).hexdigest())
-"""
-
-
-def short_run_digest(out: Path, **env: str) -> str:
-    """tests/mission/test_run.py's short AMCL run, in a fresh interpreter with `env`."""
-    out.mkdir(parents=True, exist_ok=True)
-    code = _SHORT_RUN.format(missions=str(Path(__file__).parents[1] / "mission"), out=str(out))
-    done = subprocess.run(
-        [sys.executable, "-c", code], env={**os.environ, **env}, capture_output=True,
-        text=True, check=True,
-    )  # fmt: skip
-    return done.stdout.split()[-1]
-
-
 @pytest.mark.slow
-def test_the_amcl_run_is_the_same_bytes_on_numpy_and_on_numbas_generic_cpu(tmp_path) -> None:
+def test_the_amcl_run_is_the_same_bytes_on_numpy_and_on_numbas_generic_cpu(
+    tmp_path, short_run_digest
+) -> None:
     kernel = short_run_digest(tmp_path / "kernel")
     assert short_run_digest(tmp_path / "numpy", BTNAV_AMCL="numpy") == kernel
     # a fresh cache: every kernel compiles for numba's baseline x86-64, no AVX or FMA

@@ -6,10 +6,7 @@ import csv
 import itertools
 import json
 import math
-import os
 import platform
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -144,37 +141,9 @@ def test_a_doorway_closing_mid_run_is_replanned_around(tmp_path, controller, see
 #: still looks right and paste the new digest.
 SHORT_RUN_DIGEST = "c60dc5fb6ad852694118d2dbfdcbc4e98e6ec91c4244f73f6bca1e7d21931d94"
 
-SHORT_RUN = """
-import hashlib, sys
-from pathlib import Path
-sys.path.insert(0, {tests!r})
-from missions import write_mission
-from btnav.mission import Mission, run_mission
-out = Path({out!r})
-path = write_mission(
-    out, "short", localization="amcl", task={{"navigate_to_pose": [3.0, 2.0, 1.57]}}
-)
-run_mission(Mission.load(path), out / "run")
-print(hashlib.sha256((out / "run" / "trajectory.csv").read_bytes()).hexdigest())
-"""
-
-
-def short_run_digest(out: Path, **env: str) -> str:
-    """The digest of the short run, in a fresh interpreter with `env` added."""
-    out.mkdir(parents=True, exist_ok=True)
-    code = SHORT_RUN.format(tests=str(Path(__file__).parent), out=str(out))
-    done = subprocess.run(
-        [sys.executable, "-c", code],
-        env={**os.environ, **env},
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    return done.stdout.split()[-1]
-
 
 @pytest.fixture(scope="module")
-def native_digest(tmp_path_factory) -> str:
+def native_digest(tmp_path_factory, short_run_digest) -> str:
     """The short run's digest on this CPU as it is, once for the two tests below."""
     return short_run_digest(tmp_path_factory.mktemp("native"))
 
@@ -187,7 +156,9 @@ def test_a_short_runs_trajectory_is_pinned(native_digest):
 
 
 @pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"), reason="x86-64 SIMD levels")
-def test_the_trajectory_does_not_depend_on_the_cpus_simd_or_fma_level(tmp_path, native_digest):
+def test_the_trajectory_does_not_depend_on_the_cpus_simd_or_fma_level(
+    tmp_path, native_digest, short_run_digest
+):
     # numpy dispatches its kernels on the CPU's SIMD level at run time, and glibc picks an
     # FMA or a non-FMA variant of sin, cos, atan2, exp and log (Python's math module) by
     # CPU; with AVX2 and FMA switched off for either, it runs as on an older CPU. The
